@@ -1,0 +1,153 @@
+#include "bc/boundary.hpp"
+
+#include "mesh/ghost_sweep.hpp"
+
+namespace narwhal {
+
+void FlowField::allocate(const Grid& g, const FlowParams& fp, const State& init) {
+  Q.clear();
+  nu.clear();
+  for (const auto& b : g.blocks) {
+    Q.emplace_back(b.ni, b.nj, b.nk, kGhost, init);
+    nu.emplace_back(b.ni, b.nj, b.nk, kGhost, 1.0 / fp.reynolds);
+  }
+}
+
+Index3 boundary_face_index(const Block& b, int side, Index3 c) {
+  const int d = side_dir(side);
+  c[d] = side_high(side) ? b.n(d) : 0;
+  return c;
+}
+
+FaceGeom outward_face(const Block& b, int side, const Index3& c) {
+  const int d = side_dir(side);
+  const Index3 f = boundary_face_index(b, side, c);
+  const Real s = side_high(side) ? 1.0 : -1.0;
+  return FaceGeom{s * b.S[d](f), s * b.kt[d](f)};
+}
+
+State boundary_state(const Patch& p, const State& q1, const FaceGeom& o, const Vec3& xface, const FlowParams& fp) {
+  const Real beta = fp.beta;
+  switch (p.type) {
+    case BcType::Farfield: {
+      // §5.2: outgoing characteristics from the interior, incoming from the free stream.
+      State qinf;
+      qinf << 0.0, p.velocity;
+      const auto P = acoustic_projectors(q1, o, beta);
+      Mat4 Pout = P.Pp;
+      if (P.theta > 0.0) Pout += Mat4::Identity() - P.Pp - P.Pm;
+      return qinf + Pout * (q1 - qinf);
+    }
+    case BcType::Inflow: {
+      // §5.3: velocity prescribed; l_+ (Q_b - Q_1) = 0 fixes the pressure.
+      const auto a = acoustic_data(q1[1], q1[2], q1[3], o, beta);
+      State qb;
+      qb[0] = q1[0] - a.lp * o.S.dot(p.velocity - q1.tail<3>()) / a.S2;
+      qb.tail<3>() = p.velocity;
+      return qb;
+    }
+    case BcType::Outflow: {
+      // §5.3: pressure prescribed; only the incoming r_- component changes.
+      const auto a = acoustic_data(q1[1], q1[2], q1[3], o, beta);
+      const Real gamma = (p.pressure - q1[0]) / (beta * (a.lm - a.theta));
+      State qb;
+      qb[0] = p.pressure;
+      qb.tail<3>() = q1.tail<3>() + gamma * (beta * o.S + a.lm * q1.tail<3>());
+      return qb;
+    }
+    case BcType::Dirichlet:
+      return fp.exact(xface);
+    default:
+      return q1;
+  }
+}
+
+State ghost_value(const Patch& p, const State& qm, const State& qb, const Vec3& n) {
+  State g = qm;
+  switch (p.type) {
+    case BcType::Wall:  // §5.1: u_g = 2 u_w - u_m, p_g = p_m
+      g.tail<3>() = 2.0 * p.velocity - qm.tail<3>();
+      break;
+    case BcType::Symmetry:  // §5.4: mirror the velocity, even pressure
+      g.tail<3>() = qm.tail<3>() - 2.0 * n.dot(qm.tail<3>()) * n;
+      break;
+    default:
+      if (is_state_bc(p.type)) g = 2.0 * qb - qm;
+      break;
+  }
+  return g;
+}
+
+State wall_flux(const Patch& p, const State& q1, const FaceGeom& face, bool high_side, Real d_wall, Real nu_wall,
+                Real beta) {
+  // §5.1 with §4.5: n points into the fluid; S.u_w := -k_t keeps theta_w = 0 (GCL).
+  const Real Snorm = face.S.norm();
+  const Real Sn = high_side ? -Snorm : Snorm;  // S . n_into_fluid
+  State F;
+  F[0] = -beta * face.kt;
+  F.tail<3>() = q1[0] * face.S - (nu_wall * Sn / d_wall) * (q1.tail<3>() - p.velocity);
+  return F;
+}
+
+void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
+  ghost_sweep(g, [&](int ib, const Patch& p) {
+    const Block& b = g.blocks[ib];
+    auto& Q = f.Q[ib];
+    auto& nu = f.nu[ib];
+    const PatchRange r = extended_cell_range(b, p);
+    const int d = side_dir(p.side);
+    if (p.type == BcType::Interface) {
+      const Interface& itf = g.interfaces[p.interface];
+      const auto& QD = f.Q[itf.donor];
+      const auto& nuD = f.nu[itf.donor];
+      for_each_in(r, [&](Index3 c) {
+        for (int m = 1; m <= kGhost; ++m) {
+          const Index3 gc = ghost_cell(b, p.side, c, m);
+          const Index3 dc = itf.map_cell(gc);
+          State q = QD(dc);
+          q.tail<3>() = itf.R * q.tail<3>();
+          Q(gc) = q;
+          nu(gc) = nuD(dc);
+        }
+      });
+      return;
+    }
+    for_each_in(r, [&](Index3 c) {
+      const FaceGeom o = outward_face(b, p.side, c);
+      const Vec3 n = o.S.normalized();
+      const Index3 c1 = interior_cell(b, p.side, c, 1);
+      State qb = Q(c1);
+      if (is_characteristic_bc(p.type)) qb = boundary_state(p, Q(c1), o, b.xf[d](boundary_face_index(b, p.side, c)), fp);
+      for (int m = 1; m <= kGhost; ++m) {
+        const Index3 cm = interior_cell(b, p.side, c, m);
+        const Index3 gc = ghost_cell(b, p.side, c, m);
+        // Dirichlet (verification) ghosts take the exact solution at the ghost
+        // centre: the extrapolated 2 Q_b - Q_m would make the boundary viscous
+        // gradient one-sided and cost accuracy in the boundary cells.
+        Q(gc) = p.type == BcType::Dirichlet ? fp.exact(b.xc(gc)) : ghost_value(p, Q(cm), qb, n);
+        nu(gc) = nu(cm);
+      }
+    });
+  });
+}
+
+void exchange_interfaces(const Grid& g, std::vector<GhostArray<State>>& field) {
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    const Block& b = g.blocks[ib];
+    for (const Patch& p : b.patches) {
+      if (p.type != BcType::Interface) continue;
+      const Interface& itf = g.interfaces[p.interface];
+      PatchRange r{p.lo, p.hi};
+      r.lo[side_dir(p.side)] = 0;
+      r.hi[side_dir(p.side)] = 1;
+      for_each_in(r, [&](Index3 c) {
+        const Index3 gc = ghost_cell(b, p.side, c, 1);
+        State q = field[itf.donor](itf.map_cell(gc));
+        q.tail<3>() = itf.R * q.tail<3>();
+        field[ib](gc) = q;
+      });
+    }
+  }
+}
+
+}  // namespace narwhal

@@ -1,0 +1,241 @@
+#include "implicit/newton.hpp"
+
+#include <cmath>
+
+#include <Eigen/LU>
+
+#include "bc/boundary.hpp"
+#include "implicit/jacobian.hpp"
+#include "mesh/ghost_sweep.hpp"
+#include "physics/ac_flux.hpp"
+#include "physics/residual.hpp"
+
+namespace narwhal {
+
+namespace {
+inline Index3 add(Index3 a, const Index3& b, int s = 1) {
+  for (int m = 0; m < 3; ++m) a[m] += s * b[m];
+  return a;
+}
+
+// First-order boundary flux as a function of the first interior state (§5.0):
+// the ghost follows Q_1 through the BC, external data held fixed.
+State boundary_flux_first_order(const Block& b, const Patch& p, const Index3& c, const State& q1,
+                                const GhostArray<Real>& nu, const FlowParams& fp) {
+  const int d = side_dir(p.side);
+  const bool high = side_high(p.side);
+  const Index3 f = boundary_face_index(b, p.side, c);
+  const FaceGeom face{b.S[d](f), b.kt[d](f)};
+  if (p.type == BcType::Wall)
+    return wall_flux(p, q1, face, high, wall_distance(b, p.side, c), 1.0 / fp.reynolds, fp.beta);
+  const FaceGeom o = outward_face(b, p.side, c);
+  State qb = q1;
+  if (is_characteristic_bc(p.type)) qb = boundary_state(p, q1, o, b.xf[d](f), fp);
+  // Dirichlet ghosts do not depend on the interior (see fill_ghosts).
+  const State qg = p.type == BcType::Dirichlet ? fp.exact(b.xc(ghost_cell(b, p.side, c, 1)))
+                                                : ghost_value(p, q1, qb, o.S.normalized());
+  const State& qL = high ? q1 : qg;
+  const State& qR = high ? qg : q1;
+  State F = is_characteristic_bc(p.type) ? physical_flux<Real>(qb, face, fp.beta) : roe_flux<Real>(qL, qR, face, fp.beta);
+  if (fp.viscous != ViscousForm::Inviscid)
+    F.tail<3>() -= thin_layer_coefficient(b, nu, d, f) * (qR.tail<3>() - qL.tail<3>());
+  return F;
+}
+}  // namespace
+
+NewtonSolver::NewtonSolver(Grid& g, FlowField& f, const FlowParams& fp, NewtonSettings s)
+    : g_(g), f_(f), fp_(fp), s_(s) {
+  const std::size_t nb = g.blocks.size();
+  R_.resize(nb);
+  dQ_.resize(nb);
+  Dinv_.resize(nb);
+  AL_.resize(nb);
+  AR_.resize(nb);
+  for (std::size_t ib = 0; ib < nb; ++ib) {
+    const Block& b = g.blocks[ib];
+    R_[ib].resize(b.ni, b.nj, b.nk, 0);
+    dQ_[ib].resize(b.ni, b.nj, b.nk, kGhost, State::Zero());
+    Dinv_[ib].resize(b.ni, b.nj, b.nk, 0);
+    for (int d = 0; d < 3; ++d) {
+      Index3 n = b.dims();
+      n[d] += 1;
+      AL_[ib][d].resize(n[0], n[1], n[2], 0, Mat4::Zero());
+      AR_[ib][d].resize(n[0], n[1], n[2], 0, Mat4::Zero());
+    }
+  }
+}
+
+IterationNorms NewtonSolver::norms() const {
+  IterationNorms n;
+  std::size_t cells = 0;
+  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    const Block& b = g_.blocks[ib];
+    for (int k = 0; k < b.nk; ++k)
+      for (int j = 0; j < b.nj; ++j)
+        for (int i = 0; i < b.ni; ++i) {
+          const State r = R_[ib](i, j, k) / b.vol(i, j, k);
+          for (int m = 0; m < kNumEq; ++m) n.l2[m] += r[m] * r[m];
+        }
+    cells += b.cells();
+  }
+  for (int m = 0; m < kNumEq; ++m) {
+    n.l2[m] = std::sqrt(n.l2[m] / static_cast<Real>(cells));
+    n.total += n.l2[m] * n.l2[m];
+  }
+  n.total = std::sqrt(n.total);
+  return n;
+}
+
+void NewtonSolver::check_finite() const {
+  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    const Block& b = g_.blocks[ib];
+    for (int k = 0; k < b.nk; ++k)
+      for (int j = 0; j < b.nj; ++j)
+        for (int i = 0; i < b.ni; ++i)
+          for (int m = 0; m < kNumEq; ++m) {
+            if (!std::isfinite(f_.Q[ib](i, j, k)[m]))
+              throw DivergenceError(fmt::format("non-finite {} in block '{}' cell ({}, {}, {})", kEquationNames[m],
+                                                b.name, i, j, k));
+            if (!std::isfinite(R_[ib](i, j, k)[m]))
+              throw DivergenceError(fmt::format("non-finite residual of the {} equation in block '{}' cell ({}, {}, {})",
+                                                kEquationNames[m], b.name, i, j, k));
+          }
+  }
+}
+
+IterationNorms NewtonSolver::evaluate_residual() {
+  fill_ghosts(g_, f_, fp_);
+  compute_residual(g_, f_, fp_, R_);
+  check_finite();
+  return norms();
+}
+
+void NewtonSolver::assemble_block(int ib, Real cfl) {
+  const Block& b = g_.blocks[ib];
+  const auto& Q = f_.Q[ib];
+  const auto& nu = f_.nu[ib];
+  const Real eps = s_.fd_epsilon;
+  // Face Jacobians of the first-order flux (phi = 0) plus the thin-layer viscous part (§4.4).
+  for (int d = 0; d < 3; ++d) {
+    const Index3 e = unit(d);
+    for (int k = 0; k < b.nk + (d == 2); ++k)
+      for (int j = 0; j < b.nj + (d == 1); ++j)
+        for (int i = 0; i < b.ni + (d == 0); ++i) {
+          const Index3 f{i, j, k};
+          const Index3 cL = add(f, e, -1), cR = f;
+          const FaceGeom face{b.S[d](f), b.kt[d](f)};
+          const State F0 = roe_flux<Real>(Q(cL), Q(cR), face, fp_.beta);
+          Mat4 AL = numerical_jacobian([&](const State& q) { return roe_flux<Real>(q, Q(cR), face, fp_.beta); },
+                                       Q(cL), F0, eps);
+          Mat4 AR = numerical_jacobian([&](const State& q) { return roe_flux<Real>(Q(cL), q, face, fp_.beta); },
+                                       Q(cR), F0, eps);
+          if (fp_.viscous != ViscousForm::Inviscid) {
+            const Real cv = thin_layer_coefficient(b, nu, d, f);
+            for (int m = 1; m < kNumEq; ++m) {
+              AL(m, m) += cv;
+              AR(m, m) -= cv;
+            }
+          }
+          AL_[ib][d](f) = AL;
+          AR_[ib][d](f) = AR;
+        }
+  }
+  // Physical boundary faces: replace by the derivative through the BC (§5.0).
+  for (const Patch& p : b.patches) {
+    if (p.type == BcType::Interface) continue;
+    const int d = side_dir(p.side);
+    PatchRange r{p.lo, p.hi};
+    r.lo[d] = 0;
+    r.hi[d] = 1;
+    for_each_in(r, [&](Index3 c) {
+      const Index3 f = boundary_face_index(b, p.side, c);
+      const State q1 = Q(interior_cell(b, p.side, c, 1));
+      auto flux = [&](const State& q) { return boundary_flux_first_order(b, p, c, q, nu, fp_); };
+      const Mat4 J = numerical_jacobian(flux, q1, flux(q1), eps);
+      if (side_high(p.side)) {
+        AL_[ib][d](f) = J;
+        AR_[ib][d](f).setZero();
+      } else {
+        AR_[ib][d](f) = J;
+        AL_[ib][d](f).setZero();
+      }
+    });
+  }
+  // Diagonal blocks with the local pseudo-time term (§6.4, §6.6).
+  for (int k = 0; k < b.nk; ++k)
+    for (int j = 0; j < b.nj; ++j)
+      for (int i = 0; i < b.ni; ++i) {
+        const Index3 c{i, j, k};
+        Mat4 D = Mat4::Zero();
+        Real lambda = 0.0, s2 = 0.0;
+        for (int d = 0; d < 3; ++d) {
+          const Index3 up = add(c, unit(d));
+          D += AL_[ib][d](up) - AR_[ib][d](c);
+          const Vec3 Sbar = 0.5 * (b.S[d](c) + b.S[d](up));
+          const Real ktbar = 0.5 * (b.kt[d](c) + b.kt[d](up));
+          const Real theta = ktbar + Sbar.dot(Q(c).tail<3>());
+          const Real sigma = theta - 0.5 * ktbar;
+          lambda += std::abs(sigma) + std::sqrt(sigma * sigma + fp_.beta * Sbar.squaredNorm());
+          s2 += Sbar.squaredNorm();
+        }
+        if (fp_.viscous != ViscousForm::Inviscid) lambda += 2.0 * nu(c) * s2 / b.vol(c);
+        if (std::isfinite(cfl)) D.diagonal().array() += lambda / cfl;  // V/dtau = Lambda/CFL
+        Dinv_[ib](c) = D.inverse();
+      }
+}
+
+void NewtonSolver::sweep_block(int ib, bool forward) {
+  const Block& b = g_.blocks[ib];
+  auto& dQ = dQ_[ib];
+  const auto& R = R_[ib];
+  const auto& Dinv = Dinv_[ib];
+  const auto& AL = AL_[ib];
+  const auto& AR = AR_[ib];
+  auto relax = [&](int i, int j, int k) {
+    const Index3 c{i, j, k};
+    State r = -R(c);
+    for (int d = 0; d < 3; ++d) {
+      const Index3 e = unit(d);
+      const Index3 up = add(c, e), dn = add(c, e, -1);
+      r.noalias() -= AR[d](up) * dQ(up);
+      r.noalias() += AL[d](c) * dQ(dn);
+    }
+    dQ(c) = Dinv(c) * r;
+  };
+  if (forward) {
+    for (int k = 0; k < b.nk; ++k)
+      for (int j = 0; j < b.nj; ++j)
+        for (int i = 0; i < b.ni; ++i) relax(i, j, k);
+  } else {
+    for (int k = b.nk - 1; k >= 0; --k)
+      for (int j = b.nj - 1; j >= 0; --j)
+        for (int i = b.ni - 1; i >= 0; --i) relax(i, j, k);
+  }
+}
+
+IterationNorms NewtonSolver::iterate() {
+  IterationNorms n = evaluate_residual();
+  if (ref_norm_ <= 0.0) ref_norm_ = n.total;
+  // §6.6 switched evolution relaxation.
+  const Real cfl = std::min(s_.cfl_max, s_.cfl_start * ref_norm_ / std::max(n.total, 1e-300));
+  n.cfl = cfl;
+  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    assemble_block(static_cast<int>(ib), cfl);
+    dQ_[ib].fill(State::Zero());
+  }
+  for (int it = 0; it < s_.sgs_iterations; ++it) {
+    for (bool forward : {true, false}) {
+      for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) sweep_block(static_cast<int>(ib), forward);
+      exchange_interfaces(g_, dQ_);
+    }
+  }
+  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    const Block& b = g_.blocks[ib];
+    for (int k = 0; k < b.nk; ++k)
+      for (int j = 0; j < b.nj; ++j)
+        for (int i = 0; i < b.ni; ++i) f_.Q[ib](i, j, k) += s_.relaxation * dQ_[ib](i, j, k);
+  }
+  return n;
+}
+
+}  // namespace narwhal

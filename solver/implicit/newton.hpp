@@ -1,0 +1,72 @@
+#pragma once
+// Discretized Newton relaxation (NUMERICS §6): first-order numerical face
+// Jacobians (§6.3), 7-point block matrix (§6.4), symmetric Gauss-Seidel sweeps
+// (§6.5), local pseudo-time step with switched-evolution-relaxation CFL (§6.6).
+#include <array>
+#include <vector>
+
+#include "core/error.hpp"
+#include "mesh/block.hpp"
+#include "physics/flow.hpp"
+
+namespace narwhal {
+
+struct NewtonSettings {
+  Real cfl_start = 10.0;
+  Real cfl_max = 1.0e6;
+  int sgs_iterations = 3;   // forward+backward pairs per Newton iteration
+  Real fd_epsilon = 1e-7;   // finite-difference step of the numerical Jacobians
+  Real relaxation = 1.0;    // omega_N
+};
+
+struct IterationNorms {
+  std::array<Real, kNumEq> l2{};  // RMS over cells of R_c / V_c, per equation
+  Real total = 0.0;              // sqrt of the sum of squares of l2
+  Real cfl = 0.0;
+};
+
+// Thrown when a residual or state becomes non-finite or blows up; the message
+// names block, cell and equation.
+class DivergenceError : public Error {
+ public:
+  using Error::Error;
+};
+
+class NewtonSolver {
+ public:
+  NewtonSolver(Grid& g, FlowField& f, const FlowParams& fp, NewtonSettings s);
+
+  // One Newton iteration: BCs, residual, Jacobians, SGS, update. Returns the
+  // norms of the residual evaluated at the start of the iteration.
+  IterationNorms iterate();
+
+  // Residual of the current state (fills ghosts), without updating.
+  IterationNorms evaluate_residual();
+
+  // SER reference norm, saved in restarts so a continued run follows the same path.
+  Real reference_norm() const { return ref_norm_; }
+  void set_reference_norm(Real r) { ref_norm_ = r; }
+
+  const std::vector<GhostArray<State>>& residual() const { return R_; }
+
+  // Checks every residual and state entry; throws DivergenceError naming the
+  // first non-finite one.
+  void check_finite() const;
+
+ private:
+  void assemble_block(int ib, Real cfl);
+  void sweep_block(int ib, bool forward);
+  IterationNorms norms() const;
+
+  Grid& g_;
+  FlowField& f_;
+  FlowParams fp_;
+  NewtonSettings s_;
+  Real ref_norm_ = -1.0;
+  std::vector<GhostArray<State>> R_;
+  std::vector<GhostArray<State>> dQ_;
+  std::vector<GhostArray<Mat4>> Dinv_;
+  std::vector<std::array<GhostArray<Mat4>, 3>> AL_, AR_;
+};
+
+}  // namespace narwhal

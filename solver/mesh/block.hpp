@@ -1,0 +1,101 @@
+#pragma once
+// Structured block: nodes with two ghost layers, per-face-direction metrics
+// (area vectors, face speeds), cell volumes and centres (NUMERICS §2), and the
+// boundary patches that tile its six faces.
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+#include "fields/ghost_array.hpp"
+
+namespace narwhal {
+
+inline constexpr int kGhost = 2;  // MUSCL needs two ghost layers (§3.7).
+
+enum class BcType { Wall, Farfield, Inflow, Outflow, Symmetry, Dirichlet, Interface };
+
+const char* to_string(BcType t);
+
+// Side numbering: side = 2*dir + (high ? 1 : 0); dir 0,1,2 = i,j,k.
+inline int side_dir(int side) { return side / 2; }
+inline bool side_high(int side) { return side % 2 == 1; }
+const char* side_name(int side);  // "imin", "imax", ...
+int parse_side(const std::string& s);  // -1 when unknown
+
+// A rectangle of boundary faces on one block side. `lo`/`hi` are half-open cell
+// ranges in the two tangential directions (entries of the normal direction unused).
+struct Patch {
+  int side = 0;
+  Index3 lo{0, 0, 0};
+  Index3 hi{0, 0, 0};
+  std::string label;           // grid-level name, e.g. "plate"; BCs are assigned by label
+  BcType type = BcType::Interface;
+  int interface = -1;          // index into Grid::interfaces when type == Interface
+  // Physical data (filled from the case's [bc.<label>] table).
+  Vec3 velocity = Vec3::Zero();  // wall velocity, inflow velocity or far-field velocity
+  Real pressure = 0.0;           // outflow pressure
+};
+
+struct Block {
+  std::string name;
+  int ni = 0, nj = 0, nk = 0;  // cells
+
+  GhostArray<Vec3> x;                  // nodes (ni+1)x(nj+1)x(nk+1), ghost nodes included
+  std::array<GhostArray<Vec3>, 3> S;   // face area vectors per direction (§2.2)
+  std::array<GhostArray<Vec3>, 3> xf;  // face centroids
+  std::array<GhostArray<Real>, 3> kt;  // face speed term k_t = -v_g.S (§1.3); zero on fixed grids
+  GhostArray<Real> vol;                // cell volumes (§2.3)
+  GhostArray<Vec3> xc;                 // cell centres: mean of the 8 corner nodes (§2.1)
+  std::vector<Patch> patches;
+
+  Block() = default;
+  Block(std::string block_name, int ci, int cj, int ck);
+
+  int n(int d) const { return d == 0 ? ni : (d == 1 ? nj : nk); }
+  Index3 dims() const { return {ni, nj, nk}; }
+  std::size_t cells() const { return static_cast<std::size_t>(ni) * nj * nk; }
+};
+
+// A 1-to-1 interface seen from the receiving block: ghost cells of `side` on
+// `block` are copies of `donor` cells. Node map b = b0 + T (a - a0) (CGNS
+// Transform generalised to a matrix); positions and velocities of the donor are
+// mapped by x = R x_donor + t, u = R u_donor (identity for plain interfaces,
+// a translation for periodic pairs, a rotation for rotational periodicity).
+struct Interface {
+  int block = -1, side = -1;
+  int donor = -1, donor_side = -1;
+  Eigen::Matrix3i T = Eigen::Matrix3i::Identity();
+  Index3 a0{0, 0, 0}, b0{0, 0, 0};
+  Mat3 R = Mat3::Identity();
+  Vec3 t = Vec3::Zero();
+  bool periodic = false;
+
+  Index3 map_node(const Index3& a) const;
+  Index3 map_cell(const Index3& c) const;
+};
+
+struct Grid {
+  std::vector<Block> blocks;
+  std::vector<Interface> interfaces;
+  std::size_t cells() const;
+};
+
+// Index unit vector of direction d.
+inline Index3 unit(int d) {
+  Index3 e{0, 0, 0};
+  e[d] = 1;
+  return e;
+}
+
+// Recompute S, face centroids, volumes and centres over the whole ghost-extended
+// range (§2.2–2.3). Ghost nodes must be filled first.
+void compute_metrics(Block& b);
+
+// Ghost nodes: linear extrapolation at physical boundaries (§2.1), donor copies
+// at interfaces. Fills face, edge and corner ghosts.
+void fill_ghost_nodes(Grid& g);
+
+// Full geometric preparation: ghost nodes then metrics of every block.
+void prepare_geometry(Grid& g);
+
+}  // namespace narwhal

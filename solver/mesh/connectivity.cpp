@@ -1,0 +1,208 @@
+#include "mesh/connectivity.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "core/error.hpp"
+
+namespace narwhal {
+namespace {
+
+Real face_min_edge(const Block& b, int side) {
+  const int d = side_dir(side);
+  const int t1 = (d + 1) % 3, t2 = (d + 2) % 3;
+  Real h = std::numeric_limits<Real>::max();
+  Index3 a{0, 0, 0};
+  a[d] = side_high(side) ? b.n(d) : 0;
+  for (int q = 0; q <= b.n(t2); ++q)
+    for (int p = 0; p <= b.n(t1); ++p) {
+      a[t1] = p;
+      a[t2] = q;
+      Index3 e1 = a, e2 = a;
+      e1[t1] += 1;
+      e2[t2] += 1;
+      if (p < b.n(t1)) h = std::min(h, (b.x(e1) - b.x(a)).norm());
+      if (q < b.n(t2)) h = std::min(h, (b.x(e2) - b.x(a)).norm());
+    }
+  return h;
+}
+
+// Mean of the patch's face nodes: for faces that match node-to-node under a
+// translation, the difference of these means is exactly that translation.
+Vec3 face_node_mean(const Block& b, const Patch& p) {
+  const int d = side_dir(p.side);
+  Vec3 c = Vec3::Zero();
+  int n = 0;
+  Index3 lo = p.lo, hi = p.hi;
+  lo[d] = hi[d] = side_high(p.side) ? b.n(d) : 0;
+  for (int k = lo[2]; k <= hi[2]; ++k)
+    for (int j = lo[1]; j <= hi[1]; ++j)
+      for (int i = lo[0]; i <= hi[0]; ++i) {
+        c += b.x(i, j, k);
+        ++n;
+      }
+  return c / n;
+}
+
+bool is_full_face(const Block& b, const Patch& p) {
+  const int d = side_dir(p.side);
+  for (int t = 0; t < 3; ++t)
+    if (t != d && (p.lo[t] != 0 || p.hi[t] != b.n(t))) return false;
+  return true;
+}
+
+Patch full_face_patch(const Block& b, int side) {
+  Patch p;
+  p.side = side;
+  p.lo = {0, 0, 0};
+  p.hi = b.dims();
+  return p;
+}
+
+}  // namespace
+
+std::optional<Interface> match_faces(const Grid& g, int ba, int sa, int bb, int sb, const Mat3& R,
+                                     const Vec3& t) {
+  const Block& A = g.blocks[ba];
+  const Block& B = g.blocks[bb];
+  const int dA = side_dir(sa), dB = side_dir(sb);
+  const int a1 = (dA + 1) % 3, a2 = (dA + 2) % 3;
+  const int u1 = (dB + 1) % 3, u2 = (dB + 2) % 3;
+  const Real tol = 1e-6 * std::min(face_min_edge(A, sa), face_min_edge(B, sb));
+  const int sgnN = (side_high(sa) ? 1 : -1) * (side_high(sb) ? -1 : 1);
+
+  for (int swap = 0; swap < 2; ++swap) {
+    const int m1 = swap ? u2 : u1;  // B direction that A's a1 runs along
+    const int m2 = swap ? u1 : u2;
+    if (A.n(a1) != B.n(m1) || A.n(a2) != B.n(m2)) continue;
+    for (int s1 = -1; s1 <= 1; s1 += 2)
+      for (int s2 = -1; s2 <= 1; s2 += 2) {
+        Interface itf;
+        itf.block = ba;
+        itf.side = sa;
+        itf.donor = bb;
+        itf.donor_side = sb;
+        itf.T.setZero();
+        itf.T(dB, dA) = sgnN;
+        itf.T(m1, a1) = s1;
+        itf.T(m2, a2) = s2;
+        itf.a0 = {0, 0, 0};
+        itf.a0[dA] = side_high(sa) ? A.n(dA) : 0;
+        itf.b0[dB] = side_high(sb) ? B.n(dB) : 0;
+        itf.b0[m1] = s1 > 0 ? 0 : B.n(m1);
+        itf.b0[m2] = s2 > 0 ? 0 : B.n(m2);
+        itf.R = R;
+        itf.t = t;
+        bool ok = true;
+        Index3 a = itf.a0;
+        for (int q = 0; q <= A.n(a2) && ok; ++q)
+          for (int p = 0; p <= A.n(a1) && ok; ++p) {
+            a[a1] = p;
+            a[a2] = q;
+            const Vec3 xb = R * B.x(itf.map_node(a)) + t;
+            if ((A.x(a) - xb).norm() > tol) ok = false;
+          }
+        if (ok) return itf;
+      }
+  }
+  return std::nullopt;
+}
+
+void connect_free_faces(Grid& g) {
+  struct Free {
+    int block, side;
+    bool taken = false;
+  };
+  std::vector<Free> free;
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+    for (int s = 0; s < 6; ++s) {
+      bool covered = false;
+      for (const auto& p : g.blocks[ib].patches)
+        if (p.side == s) covered = true;
+      if (!covered) free.push_back({static_cast<int>(ib), s});
+    }
+  for (std::size_t f = 0; f < free.size(); ++f) {
+    if (free[f].taken) continue;
+    bool found = false;
+    for (std::size_t h = f + 1; h < free.size() && !found; ++h) {
+      if (free[h].taken) continue;
+      auto ab = match_faces(g, free[f].block, free[f].side, free[h].block, free[h].side, Mat3::Identity(),
+                            Vec3::Zero());
+      if (!ab) continue;
+      auto ba = match_faces(g, free[h].block, free[h].side, free[f].block, free[f].side, Mat3::Identity(),
+                            Vec3::Zero());
+      if (!ba) continue;
+      for (auto* itf : {&*ab, &*ba}) {
+        Block& blk = g.blocks[itf->block];
+        Patch p = full_face_patch(blk, itf->side);
+        p.label = fmt::format("interface:{}", g.blocks[itf->donor].name);
+        p.type = BcType::Interface;
+        p.interface = static_cast<int>(g.interfaces.size());
+        g.interfaces.push_back(*itf);
+        blk.patches.push_back(p);
+      }
+      free[f].taken = free[h].taken = true;
+      found = true;
+    }
+    if (!found)
+      fail("block '{}' side {} has no boundary patch and matches no other block face point-to-point",
+           g.blocks[free[f].block].name, side_name(free[f].side));
+  }
+}
+
+void connect_periodic(Grid& g, const std::string& label_a, const std::string& label_b, const Mat3& R,
+                      const std::optional<Vec3>& t_given) {
+  auto find = [&](const std::string& label) {
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+      for (std::size_t ip = 0; ip < g.blocks[ib].patches.size(); ++ip)
+        if (g.blocks[ib].patches[ip].label == label) {
+          if (!is_full_face(g.blocks[ib], g.blocks[ib].patches[ip]))
+            fail("periodic boundary '{}' must cover a whole block face", label);
+          return std::pair<int, int>(static_cast<int>(ib), static_cast<int>(ip));
+        }
+    fail("periodic boundary: no patch labelled '{}'", label);
+  };
+  auto [ia, pa] = find(label_a);
+  auto [ib, pb] = find(label_b);
+  Patch& PA = g.blocks[ia].patches[pa];
+  Patch& PB = g.blocks[ib].patches[pb];
+  const Vec3 t = t_given ? *t_given : Vec3(face_node_mean(g.blocks[ia], PA) - R * face_node_mean(g.blocks[ib], PB));
+  auto ab = match_faces(g, ia, PA.side, ib, PB.side, R, t);
+  auto ba = match_faces(g, ib, PB.side, ia, PA.side, R.transpose(), -R.transpose() * t);
+  if (!ab || !ba)
+    fail("periodic pair '{}' / '{}': the faces do not match node-to-node under the given transform", label_a,
+         label_b);
+  ab->periodic = ba->periodic = true;
+  PA.type = PB.type = BcType::Interface;
+  PA.interface = static_cast<int>(g.interfaces.size());
+  g.interfaces.push_back(*ab);
+  PB.interface = static_cast<int>(g.interfaces.size());
+  g.interfaces.push_back(*ba);
+}
+
+void check_patch_cover(const Grid& g) {
+  for (const auto& b : g.blocks)
+    for (int s = 0; s < 6; ++s) {
+      const int d = side_dir(s);
+      const int t1 = (d + 1) % 3, t2 = (d + 2) % 3;
+      std::vector<int> count(static_cast<std::size_t>(b.n(t1)) * b.n(t2), 0);
+      for (const auto& p : b.patches) {
+        if (p.side != s) continue;
+        if (p.lo[t1] < 0 || p.hi[t1] > b.n(t1) || p.lo[t2] < 0 || p.hi[t2] > b.n(t2) || p.lo[t1] >= p.hi[t1] ||
+            p.lo[t2] >= p.hi[t2])
+          fail("block '{}' side {}: patch '{}' has an empty or out-of-range index range", b.name, side_name(s),
+               p.label);
+        for (int q = p.lo[t2]; q < p.hi[t2]; ++q)
+          for (int r = p.lo[t1]; r < p.hi[t1]; ++r) count[static_cast<std::size_t>(q) * b.n(t1) + r]++;
+      }
+      for (int q = 0; q < b.n(t2); ++q)
+        for (int r = 0; r < b.n(t1); ++r) {
+          const int c = count[static_cast<std::size_t>(q) * b.n(t1) + r];
+          if (c != 1)
+            fail("block '{}' side {}: face cell ({}, {}) is covered by {} patches (expected exactly 1)", b.name,
+                 side_name(s), r, q, c);
+        }
+    }
+}
+
+}  // namespace narwhal

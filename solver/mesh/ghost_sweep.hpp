@@ -1,0 +1,63 @@
+#pragma once
+// The traversal shared by every ghost fill (nodes, flow state, corrections):
+// directions are processed in order i, j, k, and each patch's tangential range is
+// extended into the ghost layers of the directions already processed. Edge and
+// corner ghosts are thereby filled from face ghosts. Two rounds make interface
+// copies of donor ghosts (which the donor may fill later in a round) consistent.
+#include "mesh/block.hpp"
+
+namespace narwhal {
+
+struct PatchRange {
+  Index3 lo, hi;  // half-open cell range, normal direction excluded
+};
+
+// Tangential cell range of a patch, extended into ghosts for directions < dir.
+inline PatchRange extended_cell_range(const Block& b, const Patch& p) {
+  const int d = side_dir(p.side);
+  PatchRange r{p.lo, p.hi};
+  for (int t = 0; t < 3; ++t) {
+    if (t == d) {
+      r.lo[t] = 0;
+      r.hi[t] = 1;
+      continue;
+    }
+    if (t < d) {
+      if (r.lo[t] == 0) r.lo[t] = -kGhost;
+      if (r.hi[t] == b.n(t)) r.hi[t] = b.n(t) + kGhost;
+    }
+  }
+  return r;
+}
+
+// Cell just inside the boundary (depth m = 1, 2, ...) and the matching ghost,
+// for a boundary cell whose tangential indices are given in `c`.
+inline Index3 interior_cell(const Block& b, int side, Index3 c, int m) {
+  const int d = side_dir(side);
+  c[d] = side_high(side) ? b.n(d) - m : m - 1;
+  return c;
+}
+inline Index3 ghost_cell(const Block& b, int side, Index3 c, int m) {
+  const int d = side_dir(side);
+  c[d] = side_high(side) ? b.n(d) - 1 + m : -m;
+  return c;
+}
+
+template <class F>
+void for_each_in(const PatchRange& r, F&& f) {
+  for (int k = r.lo[2]; k < r.hi[2]; ++k)
+    for (int j = r.lo[1]; j < r.hi[1]; ++j)
+      for (int i = r.lo[0]; i < r.hi[0]; ++i) f(Index3{i, j, k});
+}
+
+// Calls fill(block_index, patch) for every patch in the sweep order above.
+template <class F>
+void ghost_sweep(Grid& g, F&& fill, int rounds = 2) {
+  for (int round = 0; round < rounds; ++round)
+    for (int d = 0; d < 3; ++d)
+      for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+        for (const Patch& p : g.blocks[ib].patches)
+          if (side_dir(p.side) == d) fill(static_cast<int>(ib), p);
+}
+
+}  // namespace narwhal

@@ -1,0 +1,34 @@
+#pragma once
+// Flow-solver parameters and the per-block flow fields.
+#include <functional>
+#include <vector>
+
+#include "core/types.hpp"
+#include "fields/ghost_array.hpp"
+#include "mesh/block.hpp"
+#include "physics/muscl.hpp"
+
+namespace narwhal {
+
+// §4.3: Full = §4.2 complete stress; ThinLayer = Laplacian form in all directions (TL-all).
+enum class ViscousForm { Inviscid, ThinLayer, Full };
+
+struct FlowParams {
+  Real beta = 5.0;          // artificial compressibility (§0.2, §13.2)
+  Real reynolds = 1.0e5;    // Re = U L / nu
+  MusclParams muscl;
+  ViscousForm viscous = ViscousForm::Full;
+  // Manufactured-solution hooks (§12.2): momentum source per unit volume at a
+  // point, and the exact state used by Dirichlet patches. Empty when unused.
+  std::function<Vec3(const Vec3&)> momentum_source;
+  std::function<State(const Vec3&)> exact;
+};
+
+struct FlowField {
+  std::vector<GhostArray<State>> Q;   // [p, u, v, w] per cell, two ghost layers
+  std::vector<GhostArray<Real>> nu;   // effective viscosity nu_e = (1 + nut_hat)/Re (§0.2)
+
+  void allocate(const Grid& g, const FlowParams& fp, const State& init);
+};
+
+}  // namespace narwhal

@@ -1,0 +1,130 @@
+#include "physics/residual.hpp"
+
+#include "bc/boundary.hpp"
+#include "mesh/ghost_sweep.hpp"
+
+namespace narwhal {
+
+namespace {
+inline Index3 add(Index3 a, const Index3& b, int s = 1) {
+  for (int m = 0; m < 3; ++m) a[m] += s * b[m];
+  return a;
+}
+}  // namespace
+
+Real thin_layer_coefficient(const Block& b, const GhostArray<Real>& nu, int d, const Index3& f) {
+  const Index3 cR = f, cL = add(f, unit(d), -1);
+  const Real Vf = 0.5 * (b.vol(cL) + b.vol(cR));
+  const Real nuf = 0.5 * (nu(cL) + nu(cR));
+  return nuf * b.S[d](f).squaredNorm() / Vf;
+}
+
+State viscous_face_flux(const Block& b, const GhostArray<State>& Q, const GhostArray<Real>& nu, int d,
+                        const Index3& f, ViscousForm form) {
+  State Fv = State::Zero();
+  if (form == ViscousForm::Inviscid) return Fv;
+  const Index3 e = unit(d);
+  const Index3 cR = f, cL = add(f, e, -1);
+  if (form == ViscousForm::ThinLayer) {
+    Fv.tail<3>() = thin_layer_coefficient(b, nu, d, f) * (Q(cR).tail<3>() - Q(cL).tail<3>());
+    return Fv;
+  }
+  // §4.2: grad u at the face by the chain rule in computational space.
+  const Vec3& S = b.S[d](f);
+  const Real Vf = 0.5 * (b.vol(cL) + b.vol(cR));
+  Mat3 G = (Q(cR).tail<3>() - Q(cL).tail<3>()) * S.transpose();
+  for (int t : {(d + 1) % 3, (d + 2) % 3}) {
+    const Index3 et = unit(t);
+    const Vec3 du = 0.25 * (Q(add(cL, et)).tail<3>() + Q(add(cR, et)).tail<3>() - Q(add(cL, et, -1)).tail<3>() -
+                            Q(add(cR, et, -1)).tail<3>());
+    const Vec3 Sbar = 0.25 * (b.S[t](cL) + b.S[t](add(cL, et)) + b.S[t](cR) + b.S[t](add(cR, et)));
+    G += du * Sbar.transpose();
+  }
+  G /= Vf;
+  const Real nuf = 0.5 * (nu(cL) + nu(cR));
+  Fv.tail<3>() = nuf * (G + G.transpose()) * S;
+  return Fv;
+}
+
+Real wall_distance(const Block& b, int side, const Index3& c, Vec3* n_out) {
+  const int d = side_dir(side);
+  const Index3 f = boundary_face_index(b, side, c);
+  Vec3 n = b.S[d](f).normalized();
+  if (side_high(side)) n = -n;
+  if (n_out) *n_out = n;
+  return n.dot(b.xc(interior_cell(b, side, c, 1)) - b.xf[d](f));
+}
+
+State muscl_face_flux(const Block& b, const GhostArray<State>& Q, const GhostArray<Real>& nu, int d,
+                      const Index3& f, const FlowParams& fp) {
+  const Index3 e = unit(d);
+  const Index3 cR = f, cL = add(f, e, -1);
+  const State qL = muscl_left<State>(Q(add(cL, e, -1)), Q(cL), Q(cR), fp.muscl);
+  const State qR = muscl_right<State>(Q(cL), Q(cR), Q(add(cR, e)), fp.muscl);
+  State F = roe_flux<Real>(qL, qR, FaceGeom{b.S[d](f), b.kt[d](f)}, fp.beta);
+  F -= viscous_face_flux(b, Q, nu, d, f, fp.viscous);
+  return F;
+}
+
+State boundary_face_flux(const Block& b, const Patch& p, const GhostArray<State>& Q, const GhostArray<Real>& nu,
+                         const Index3& c, const FlowParams& fp) {
+  const int d = side_dir(p.side);
+  const Index3 f = boundary_face_index(b, p.side, c);
+  const Index3 c1 = interior_cell(b, p.side, c, 1);
+  if (p.type == BcType::Wall) {
+    return wall_flux(p, Q(c1), FaceGeom{b.S[d](f), b.kt[d](f)}, side_high(p.side), wall_distance(b, p.side, c),
+                     1.0 / fp.reynolds, fp.beta);
+  }
+  if (is_characteristic_bc(p.type)) {
+    const State qb = boundary_state(p, Q(c1), outward_face(b, p.side, c), b.xf[d](f), fp);
+    State F = physical_flux<Real>(qb, FaceGeom{b.S[d](f), b.kt[d](f)}, fp.beta);
+    F -= viscous_face_flux(b, Q, nu, d, f, fp.viscous);
+    return F;
+  }
+  return muscl_face_flux(b, Q, nu, d, f, fp);  // symmetry, interface: Roe through the ghosts
+}
+
+void compute_residual(const Grid& g, const FlowField& fl, const FlowParams& fp, std::vector<GhostArray<State>>& R) {
+  R.resize(g.blocks.size());
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    const Block& b = g.blocks[ib];
+    const auto& Q = fl.Q[ib];
+    const auto& nu = fl.nu[ib];
+    auto& Rb = R[ib];
+    if (Rb.ni() != b.ni || Rb.nj() != b.nj || Rb.nk() != b.nk) Rb.resize(b.ni, b.nj, b.nk, 0);
+    Rb.fill(State::Zero());
+    for (int d = 0; d < 3; ++d) {
+      const Index3 e = unit(d);
+      Index3 lo{0, 0, 0}, hi = b.dims();
+      lo[d] = 1;  // interior faces only; boundary faces come from the patches
+      for (int k = lo[2]; k < hi[2]; ++k)
+        for (int j = lo[1]; j < hi[1]; ++j)
+          for (int i = lo[0]; i < hi[0]; ++i) {
+            const Index3 f{i, j, k};
+            const State F = muscl_face_flux(b, Q, nu, d, f, fp);
+            Rb(add(f, e, -1)) += F;
+            Rb(f) -= F;
+          }
+    }
+    for (const Patch& p : b.patches) {
+      PatchRange r{p.lo, p.hi};
+      r.lo[side_dir(p.side)] = 0;
+      r.hi[side_dir(p.side)] = 1;
+      for_each_in(r, [&](Index3 c) {
+        const State F = boundary_face_flux(b, p, Q, nu, c, fp);
+        const Index3 c1 = interior_cell(b, p.side, c, 1);
+        if (side_high(p.side))
+          Rb(c1) += F;
+        else
+          Rb(c1) -= F;
+      });
+    }
+    if (fp.momentum_source) {
+      for (int k = 0; k < b.nk; ++k)
+        for (int j = 0; j < b.nj; ++j)
+          for (int i = 0; i < b.ni; ++i) Rb(i, j, k).tail<3>() -= b.vol(i, j, k) * fp.momentum_source(b.xc(i, j, k));
+    }
+  }
+}
+
+}  // namespace narwhal
