@@ -87,20 +87,23 @@ IterationNorms NewtonSolver::norms() const {
 }
 
 void NewtonSolver::check_finite() const {
-  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
-    const Block& b = g_.blocks[ib];
-    for (int k = 0; k < b.nk; ++k)
-      for (int j = 0; j < b.nj; ++j)
-        for (int i = 0; i < b.ni; ++i)
-          for (int m = 0; m < kNumEq; ++m) {
-            if (!std::isfinite(f_.Q[ib](i, j, k)[m]))
-              throw DivergenceError(fmt::format("non-finite {} in block '{}' cell ({}, {}, {})", kEquationNames[m],
-                                                b.name, i, j, k));
-            if (!std::isfinite(R_[ib](i, j, k)[m]))
-              throw DivergenceError(fmt::format("non-finite residual of the {} equation in block '{}' cell ({}, {}, {})",
-                                                kEquationNames[m], b.name, i, j, k));
-          }
-  }
+  // States first: a non-finite state is the cause, non-finite residuals of its
+  // neighbours the consequence.
+  for (int pass = 0; pass < 2; ++pass)
+    for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+      const Block& b = g_.blocks[ib];
+      for (int k = 0; k < b.nk; ++k)
+        for (int j = 0; j < b.nj; ++j)
+          for (int i = 0; i < b.ni; ++i)
+            for (int m = 0; m < kNumEq; ++m) {
+              if (pass == 0 && !std::isfinite(f_.Q[ib](i, j, k)[m]))
+                throw DivergenceError(fmt::format("non-finite {} in block '{}' cell ({}, {}, {})", kEquationNames[m],
+                                                  b.name, i, j, k));
+              if (pass == 1 && !std::isfinite(R_[ib](i, j, k)[m]))
+                throw DivergenceError(fmt::format("non-finite residual of the {} equation in block '{}' cell ({}, {}, {})",
+                                                  kEquationNames[m], b.name, i, j, k));
+            }
+    }
 }
 
 IterationNorms NewtonSolver::evaluate_residual() {

@@ -208,3 +208,35 @@ Block reorient_block(const Block& b, const Index3& perm, const Index3& sign) {
 }
 
 }  // namespace narwhal
+
+namespace narwhal {
+Grid split_blocks(const Grid& g, const Index3& parts, bool rotate) {
+  static const Index3 perms[4] = {{0, 1, 2}, {1, 0, 2}, {2, 0, 1}, {0, 1, 2}};
+  static const Index3 signs[4] = {{1, 1, 1}, {-1, 1, 1}, {1, 1, 1}, {-1, -1, 1}};
+  Grid out;
+  int counter = 0;
+  for (const Block& b : g.blocks) {
+    std::array<std::vector<int>, 3> cuts;
+    for (int d = 0; d < 3; ++d) {
+      if (parts[d] < 1 || parts[d] > b.n(d))
+        fail("split: block '{}' has {} cells in direction {}, cannot make {} parts", b.name, b.n(d), "ijk"[d],
+             parts[d]);
+      for (int p = 0; p <= parts[d]; ++p) cuts[d].push_back(b.n(d) * p / parts[d]);
+    }
+    for (int pk = 0; pk < parts[2]; ++pk)
+      for (int pj = 0; pj < parts[1]; ++pj)
+        for (int pi = 0; pi < parts[0]; ++pi) {
+          const Index3 lo{cuts[0][pi], cuts[1][pj], cuts[2][pk]};
+          const Index3 hi{cuts[0][pi + 1], cuts[1][pj + 1], cuts[2][pk + 1]};
+          Block sub = extract_block(b, fmt::format("{}_{}_{}_{}", b.name, pi, pj, pk), lo, hi);
+          if (rotate) {
+            const int r = counter % 4;
+            sub = reorient_block(sub, perms[r], signs[r]);
+          }
+          ++counter;
+          out.blocks.push_back(std::move(sub));
+        }
+  }
+  return out;
+}
+}  // namespace narwhal

@@ -53,3 +53,10 @@ Block extract_block(const Block& parent, const std::string& name, const Index3& 
 Block reorient_block(const Block& b, const Index3& perm, const Index3& sign);
 
 }  // namespace narwhal
+
+namespace narwhal {
+// Split every block into parts[0] x parts[1] x parts[2] sub-blocks (as even as the
+// cell counts allow). With `rotate`, sub-blocks are re-indexed by a cycle of
+// proper rotations so that interfaces join blocks of different orientations.
+Grid split_blocks(const Grid& g, const Index3& parts, bool rotate);
+}  // namespace narwhal

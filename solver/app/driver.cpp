@@ -1,0 +1,187 @@
+#include "app/driver.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "bc/boundary.hpp"
+#include "io/cgns_writer.hpp"
+#include "io/monitors.hpp"
+#include "io/restart.hpp"
+#include "physics/wall_forces.hpp"
+#include "version.hpp"
+
+namespace narwhal {
+
+const char* to_string(RunStatus s) {
+  switch (s) {
+    case RunStatus::Converged: return "converged";
+    case RunStatus::MaxIterations: return "max_iterations";
+    case RunStatus::Diverged: return "diverged";
+  }
+  return "?";
+}
+
+FlowParams flow_params(const CaseConfig& c) {
+  FlowParams fp = c.flow;
+  if (c.manufactured) {
+    const ManufacturedSolution ms = c.mms;
+    fp.momentum_source = [ms](const Vec3& x) { return ms.momentum_source(x); };
+    fp.exact = [ms](const Vec3& x) { return ms.exact(x); };
+  }
+  return fp;
+}
+
+namespace {
+
+std::string json_escape(const std::string& s) {
+  std::string o;
+  for (char ch : s) {
+    switch (ch) {
+      case '"': o += "\\\""; break;
+      case '\\': o += "\\\\"; break;
+      case '\n': o += "\\n"; break;
+      case '\t': o += "\\t"; break;
+      default:
+        if (static_cast<unsigned char>(ch) < 0x20) o += fmt::format("\\u{:04x}", static_cast<int>(ch));
+        else o += ch;
+    }
+  }
+  return o;
+}
+
+void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g, const RunSummary& s,
+                    const IterationNorms& last, const std::map<std::string, ForceCoefficients>& forces) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) fail("cannot write '{}'", path);
+  fmt::print(f, "{{\n  \"case\": \"{}\",\n  \"title\": \"{}\",\n", json_escape(c.file), json_escape(c.title));
+  fmt::print(f, "  \"status\": \"{}\",\n  \"message\": \"{}\",\n", to_string(s.status), json_escape(s.message));
+  fmt::print(f, "  \"iterations\": {},\n  \"wall_seconds\": {:.6f},\n  \"cells\": {},\n  \"blocks\": {},\n", s.iterations,
+             s.wall_seconds, g.cells(), g.blocks.size());
+  fmt::print(f, "  \"residual_drop\": {:.6e},\n  \"final_residual\": {{\"p\": {:.6e}, \"u\": {:.6e}, \"v\": {:.6e}, \"w\": {:.6e}}},\n",
+             s.residual_drop, last.l2[0], last.l2[1], last.l2[2], last.l2[3]);
+  fmt::print(f, "  \"settings\": {{\"reynolds\": {:.9g}, \"beta\": {:.9g}, \"viscous\": \"{}\", \"muscl_kappa\": {:.9g}, "
+                "\"muscl_phi\": {:.9g}, \"cfl_start\": {:.9g}, \"cfl_max\": {:.9g}, \"sgs_iterations\": {}, "
+                "\"max_iterations\": {}, \"residual_drop_target\": {:.3e}}},\n",
+             c.flow.reynolds, c.flow.beta,
+             c.flow.viscous == ViscousForm::Full ? "full" : (c.flow.viscous == ViscousForm::ThinLayer ? "thin-layer" : "inviscid"),
+             c.flow.muscl.kappa, c.flow.muscl.phi, c.solver.newton.cfl_start, c.solver.newton.cfl_max,
+             c.solver.newton.sgs_iterations, c.solver.max_iterations, c.solver.residual_drop);
+  fmt::print(f, "  \"forces\": {{");
+  bool first = true;
+  for (const auto& [name, fc] : forces) {
+    fmt::print(f, "{}\n    \"{}\": {{\"cfx\": {:.12e}, \"cfy\": {:.12e}, \"cfz\": {:.12e}, \"cmx\": {:.12e}, \"cmy\": {:.12e}, \"cmz\": {:.12e}}}",
+               first ? "" : ",", json_escape(name), fc.force[0], fc.force[1], fc.force[2], fc.moment[0], fc.moment[1],
+               fc.moment[2]);
+    first = false;
+  }
+  fmt::print(f, "{}}},\n", forces.empty() ? "" : "\n  ");
+  fmt::print(f, "  \"provenance\": {{\"version\": \"{}\", \"git_sha\": \"{}\", \"compiler\": \"{}\", \"flags\": \"{}\"}}\n}}\n",
+             kVersion, kGitSha, kCompiler, kBuildFlags);
+  std::fclose(f);
+}
+
+std::map<std::string, ForceCoefficients> all_forces(const std::map<std::string, std::vector<WallFace>>& faces,
+                                                    const OutputConfig& o) {
+  std::map<std::string, ForceCoefficients> out;
+  for (const auto& [name, list] : faces)
+    out[name] = integrate_forces(list, o.reference_area, o.reference_length, o.moment_centre);
+  return out;
+}
+
+}  // namespace
+
+RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
+  namespace fs = std::filesystem;
+  using clock = std::chrono::steady_clock;
+  Grid g = build_grid(c);
+  const FlowParams fp = flow_params(c);
+  FlowField field;
+  field.allocate(g, fp, c.initial);
+  fs::create_directories(opt.out_dir);
+  const std::string restart_path = (fs::path(opt.out_dir) / "restart.h5").string();
+
+  RestartInfo info;
+  if (opt.restart) info = read_restart(*opt.restart, g, field);
+  NewtonSolver solver(g, field, fp, c.solver.newton);
+  if (opt.restart) solver.set_reference_norm(info.reference_norm);
+
+  // Wall groups are known from the patches; forces appear in the history per group.
+  fill_ghosts(g, field, fp);
+  std::vector<std::string> groups;
+  for (const auto& [name, list] : wall_faces(g, field, fp)) groups.push_back(name);
+  HistoryWriter history((fs::path(opt.out_dir) / "history.csv").string(), groups, opt.restart.has_value());
+
+  const int max_it = opt.max_iterations.value_or(c.solver.max_iterations);
+  RunSummary s;
+  s.iterations = info.iteration;
+  const auto t0 = clock::now();
+  auto elapsed = [&] { return info.wall_seconds + std::chrono::duration<Real>(clock::now() - t0).count(); };
+  IterationNorms last;
+  std::map<std::string, ForceCoefficients> forces;
+  auto last_print = clock::now();
+  if (!opt.progress)
+    fmt::print("narwhal: {} — {} blocks, {} cells, up to {} iterations\n", c.title, g.blocks.size(), g.cells(), max_it);
+
+  try {
+    while (s.iterations < max_it) {
+      const int it = s.iterations + 1;
+      last = solver.iterate();  // residual of the state entering this iteration, then the update
+      forces = all_forces(wall_faces(g, field, fp), c.output);
+      history.write(it, elapsed(), last, forces);
+      s.iterations = it;
+      s.residual_drop = last.total / solver.reference_norm();
+      if (!std::isfinite(last.total) || s.residual_drop > c.solver.divergence_factor) {
+        s.status = RunStatus::Diverged;
+        s.message = fmt::format("residual grew by {:.2e} (limit {:.1e}) at iteration {}", s.residual_drop,
+                                c.solver.divergence_factor, it);
+        break;
+      }
+      if (s.residual_drop < c.solver.residual_drop) {
+        s.status = RunStatus::Converged;
+        break;
+      }
+      if (c.output.restart_interval > 0 && it % c.output.restart_interval == 0) {
+        solver.check_finite();
+        history.flush();
+        write_restart(restart_path, g, field, {it, solver.reference_norm(), elapsed()}, c.text);
+      }
+      if (opt.progress && (clock::now() - last_print > std::chrono::milliseconds(200))) {
+        last_print = clock::now();
+        // ETA from the mean logarithmic convergence rate so far.
+        const Real rate = std::log(std::max(s.residual_drop, 1e-300)) / it;
+        const Real left = rate < 0 ? std::log(c.solver.residual_drop / s.residual_drop) / rate : 0.0;
+        const Real eta = std::min<Real>(left, max_it - it) * elapsed() / it;
+        std::string f;
+        for (const auto& [name, fc] : forces) f += fmt::format("  {} CF=({:.5f},{:.5f})", name, fc.force[0], fc.force[1]);
+        fmt::print("\r  it {:6d}  drop {:.2e}  cfl {:.1e}{}  ETA {:.0f}s   ", it, s.residual_drop, last.cfl, f, eta);
+        std::fflush(stdout);
+      }
+    }
+  } catch (const DivergenceError& e) {
+    s.status = RunStatus::Diverged;
+    s.message = fmt::format("iteration {}: {}", s.iterations + 1, e.what());
+  }
+  if (opt.progress) fmt::print("\n");
+  s.wall_seconds = elapsed();
+  history.flush();
+  if (s.status != RunStatus::Diverged) {
+    write_restart(restart_path, g, field, {s.iterations, solver.reference_norm(), s.wall_seconds}, c.text);
+    fill_ghosts(g, field, fp);
+    auto faces = wall_faces(g, field, fp);
+    for (const auto& [name, list] : faces)
+      write_surface_csv((fs::path(opt.out_dir) / fmt::format("surface_{}.csv", name)).string(), list);
+    write_cgns_solution((fs::path(opt.out_dir) / "solution.cgns").string(), g, field);
+  } else {
+    s.message += fs::exists(restart_path) ? "; the last good restart.h5 is kept" : "; no restart was written before";
+  }
+  write_run_json((fs::path(opt.out_dir) / "run.json").string(), c, g, s, last, forces);
+  fmt::print("narwhal: {} after {} iterations, residual drop {:.2e}, {:.1f} s{}{}\n", to_string(s.status),
+             s.iterations, s.residual_drop, s.wall_seconds, s.message.empty() ? "" : ": ", s.message);
+  return s;
+}
+
+}  // namespace narwhal

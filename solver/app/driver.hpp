@@ -1,0 +1,33 @@
+#pragma once
+// One steady run from a case file to its outputs (the contract the harness reads).
+#include <optional>
+#include <string>
+
+#include "config/case_config.hpp"
+
+namespace narwhal {
+
+struct RunOptions {
+  std::string out_dir = "run";
+  std::optional<std::string> restart;
+  std::optional<int> max_iterations;  // overrides solver.max_iterations
+  bool progress = false;              // live progress line (only on a terminal)
+};
+
+enum class RunStatus { Converged, MaxIterations, Diverged };
+const char* to_string(RunStatus s);
+
+struct RunSummary {
+  RunStatus status = RunStatus::MaxIterations;
+  int iterations = 0;
+  Real wall_seconds = 0.0;
+  Real residual_drop = 1.0;
+  std::string message;
+};
+
+RunSummary run_case(const CaseConfig& c, const RunOptions& opt);
+
+// Builds FlowParams from the case (manufactured-solution hooks included).
+FlowParams flow_params(const CaseConfig& c);
+
+}  // namespace narwhal

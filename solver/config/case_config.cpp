@@ -1,0 +1,207 @@
+#include "config/case_config.hpp"
+
+#include <filesystem>
+
+#include <Eigen/Geometry>
+
+#include "config/reader.hpp"
+#include "core/error.hpp"
+#include "mesh/connectivity.hpp"
+#include "mesh/plot3d.hpp"
+
+namespace narwhal {
+namespace {
+
+BcType parse_bc_type(const ConfigReader& r, const std::string& key) {
+  const std::string t = r.string(key, "a boundary type");
+  static const std::pair<const char*, BcType> types[] = {
+      {"wall", BcType::Wall},         {"farfield", BcType::Farfield}, {"inflow", BcType::Inflow},
+      {"outflow", BcType::Outflow},   {"symmetry", BcType::Symmetry}, {"dirichlet", BcType::Dirichlet}};
+  for (const auto& [name, type] : types)
+    if (t == name) return type;
+  r.error(key, "unknown boundary type '" + t +
+                   "'; valid types: wall, farfield, inflow, outflow, symmetry, dirichlet (and [[periodic]] pairs)");
+}
+
+void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g) {
+  g.type = r.string("grid.type", "one of flat_plate, box, perturbed_box, plot3d");
+  if (g.type == "flat_plate") {
+    auto& p = g.plate;
+    p.x_runup = r.number_or("grid.runup", p.x_runup, "the run-up length ahead of the plate");
+    p.length = r.number_or("grid.length", p.length, "the plate length");
+    p.height = r.number_or("grid.height", p.height, "the domain height");
+    p.width = r.number_or("grid.width", p.width, "the span of the single cell in z");
+    p.n_runup = r.integer_or("grid.cells_runup", p.n_runup, "cells along the run-up");
+    p.n_plate = r.integer_or("grid.cells_plate", p.n_plate, "cells along the plate");
+    p.n_normal = r.integer_or("grid.cells_normal", p.n_normal, "cells normal to the plate");
+    p.dx_le = r.number_or("grid.dx_leading_edge", p.dx_le, "the streamwise spacing at the leading edge");
+    p.dx_te = r.number_or("grid.dx_trailing_edge", p.dx_te, "the streamwise spacing at the trailing edge (0: free)");
+    p.dy_wall = r.number_or("grid.dy_wall", p.dy_wall, "the first wall-normal spacing");
+  } else if (g.type == "box") {
+    const char* names[3] = {"x", "y", "z"};
+    for (int d = 0; d < 3; ++d) {
+      const std::string key = std::string("grid.") + names[d];
+      const Vec3 spec = r.vec3(key, "[start, end, cells]");
+      const int n = static_cast<int>(spec[2]);
+      if (n < 1 || spec[2] != n) r.error(key, "the cell count (third entry) must be a positive integer");
+      const std::string sk = std::string("grid.first_spacing_") + names[d];
+      const Real ds = r.number_or(sk, 0.0, "the first spacing from the start (0: uniform)");
+      g.box_nodes[d] = ds > 0.0 ? geometric_nodes(spec[0], spec[1], n, ds) : uniform_nodes(spec[0], spec[1], n);
+    }
+  } else if (g.type == "perturbed_box") {
+    g.perturbed_cells = r.integer("grid.cells", "cells per direction of the unit box");
+    g.perturbed_amplitude = r.number_or("grid.amplitude", g.perturbed_amplitude, "the sinusoidal perturbation amplitude");
+  } else if (g.type == "plot3d") {
+    const std::string f = r.string("grid.file", "the Plot3D grid file (relative to the case file)");
+    g.plot3d_file = std::filesystem::path(f).is_absolute() ? f : (std::filesystem::path(base_dir) / f).string();
+    const std::size_t n = r.array_size("grid.patch");
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::string pre = fmt::format("grid.patch[{}].", i);
+      Plot3dPatch p;
+      p.block = r.integer(pre + "block", "the 1-based block number") - 1;
+      const std::string side = r.string(pre + "side", "one of imin, imax, jmin, jmax, kmin, kmax");
+      p.side = parse_side(side);
+      if (p.side < 0) r.error(pre + "side", "expected one of imin, imax, jmin, jmax, kmin, kmax, got '" + side + "'");
+      p.label = r.string(pre + "label", "the patch label used by [bc.<label>]");
+      // Optional cell ranges in the two tangential directions (0-based, half-open); default: whole face.
+      const int d = side_dir(p.side);
+      for (int t = 0; t < 3; ++t) {
+        p.lo[t] = 0;
+        p.hi[t] = -1;  // resolved against the block size later
+      }
+      for (int q = 0; q < 2; ++q) {
+        const int t = (d + 1 + q) % 3;
+        const std::string key = pre + "range_" + "ijk"[t];
+        if (r.has(key)) {
+          const Vec3 v = r.vec3(key, "[first cell, last cell + 1, 0]");
+          p.lo[t] = static_cast<int>(v[0]);
+          p.hi[t] = static_cast<int>(v[1]);
+        }
+      }
+      g.plot3d_patches.push_back(p);
+    }
+  } else {
+    r.error("grid.type", "unknown grid type '" + g.type + "'; valid: flat_plate, box, perturbed_box, plot3d");
+  }
+  if (r.has("grid.split")) {
+    const Vec3 s = r.vec3("grid.split", "[parts_i, parts_j, parts_k]");
+    for (int d = 0; d < 3; ++d) g.split[d] = static_cast<int>(s[d]);
+  }
+  g.split_rotate = r.boolean_or("grid.split_rotate", false, "whether split blocks get rotated index orientations");
+}
+
+}  // namespace
+
+CaseConfig parse_case(const std::string& text, const std::string& display_name, const std::string& base_dir) {
+  ConfigReader r(text, display_name);
+  CaseConfig c;
+  c.file = display_name;
+  c.text = text;
+  c.title = r.string_or("case.title", "untitled", "a one-line description");
+  read_grid(r, base_dir, c.grid);
+
+  auto& f = c.flow;
+  f.reynolds = r.number("flow.reynolds", "a positive number, Re = U L / nu");
+  if (!(f.reynolds > 0)) r.error("flow.reynolds", "must be positive");
+  f.beta = r.number_or("flow.beta", f.beta, "the artificial compressibility beta (5-10)");
+  if (!(f.beta > 0)) r.error("flow.beta", "must be positive");
+  const std::string visc = r.string_or("flow.viscous", "full", "one of full, thin-layer, inviscid");
+  if (visc == "full") f.viscous = ViscousForm::Full;
+  else if (visc == "thin-layer") f.viscous = ViscousForm::ThinLayer;
+  else if (visc == "inviscid") f.viscous = ViscousForm::Inviscid;
+  else r.error("flow.viscous", "expected one of full, thin-layer, inviscid, got '" + visc + "'");
+  f.muscl.kappa = r.number_or("flow.muscl_kappa", f.muscl.kappa, "the MUSCL kappa");
+  f.muscl.phi = r.number_or("flow.muscl_phi", f.muscl.phi, "the MUSCL phi (0 first order, 1 higher order)");
+  c.initial[0] = r.number_or("flow.initial_pressure", 0.0, "the initial pressure");
+  c.initial.tail<3>() = r.vec3_or("flow.initial_velocity", Vec3(1, 0, 0), "the initial velocity [u, v, w]");
+  c.manufactured = r.boolean_or("flow.manufactured_solution", false, "whether to run the §12.2 manufactured solution");
+  if (c.manufactured) c.mms.nu = 1.0 / f.reynolds;
+
+  for (const std::string& label : r.subtables("bc")) {
+    const std::string pre = "bc." + label + ".";
+    PatchBc bc;
+    bc.type = parse_bc_type(r, pre + "type");
+    bc.velocity = r.vec3_or(pre + "velocity", bc.type == BcType::Wall ? Vec3::Zero() : Vec3(1, 0, 0),
+                            "the velocity [u, v, w]");
+    bc.pressure = r.number_or(pre + "pressure", 0.0, "the outflow pressure");
+    c.bcs[label] = bc;
+  }
+  const std::size_t np = r.array_size("periodic");
+  for (std::size_t i = 0; i < np; ++i) {
+    const std::string pre = fmt::format("periodic[{}].", i);
+    PeriodicConfig p;
+    p.a = r.string(pre + "a", "the label of the first periodic patch");
+    p.b = r.string(pre + "b", "the label of the second periodic patch");
+    if (r.has(pre + "translation")) p.translation = r.vec3(pre + "translation", "the translation from b to a");
+    p.axis = r.vec3_or(pre + "axis", Vec3::UnitX(), "the rotation axis");
+    p.angle_deg = r.number_or(pre + "angle", 0.0, "the rotation angle from b to a in degrees");
+    c.periodic.push_back(p);
+  }
+
+  auto& s = c.solver;
+  s.max_iterations = r.integer_or("solver.max_iterations", s.max_iterations, "the iteration limit");
+  s.residual_drop = r.number_or("solver.residual_drop", s.residual_drop, "the residual reduction that ends the run");
+  s.divergence_factor = r.number_or("solver.divergence_factor", s.divergence_factor,
+                                    "the residual growth that counts as divergence");
+  s.newton.cfl_start = r.number_or("solver.cfl_start", s.newton.cfl_start, "the initial CFL number");
+  s.newton.cfl_max = r.number_or("solver.cfl_max", s.newton.cfl_max, "the largest CFL number");
+  s.newton.sgs_iterations = r.integer_or("solver.sgs_iterations", s.newton.sgs_iterations,
+                                         "symmetric Gauss-Seidel iterations per Newton iteration");
+  s.newton.fd_epsilon = r.number_or("solver.fd_epsilon", s.newton.fd_epsilon, "the Jacobian difference step");
+  if (s.max_iterations < 0) r.error("solver.max_iterations", "must be >= 0");
+  if (s.newton.sgs_iterations < 1) r.error("solver.sgs_iterations", "must be >= 1");
+
+  auto& o = c.output;
+  o.restart_interval = r.integer_or("output.restart_interval", o.restart_interval, "iterations between restart files");
+  o.reference_area = r.number_or("output.reference_area", o.reference_area, "the force reference area");
+  o.reference_length = r.number_or("output.reference_length", o.reference_length, "the moment reference length");
+  o.moment_centre = r.vec3_or("output.moment_centre", o.moment_centre, "the moment reference point");
+  r.reject_unknown_keys();
+  return c;
+}
+
+CaseConfig load_case(const std::string& path) {
+  ConfigReader probe(path);  // reads the file and reports syntax errors with the path
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  return parse_case(probe.text(), path, base.empty() ? "." : base);
+}
+
+Grid build_grid(const CaseConfig& c) {
+  Grid g;
+  const auto& gc = c.grid;
+  if (gc.type == "flat_plate") {
+    g = make_flat_plate(gc.plate);
+  } else if (gc.type == "box") {
+    g.blocks.push_back(make_box("box", gc.box_nodes[0], gc.box_nodes[1], gc.box_nodes[2]));
+  } else if (gc.type == "perturbed_box") {
+    g.blocks.push_back(make_perturbed_box("box", gc.perturbed_cells, gc.perturbed_amplitude));
+  } else if (gc.type == "plot3d") {
+    g.blocks = read_plot3d(gc.plot3d_file);
+    for (Plot3dPatch p : gc.plot3d_patches) {
+      if (p.block < 0 || p.block >= static_cast<int>(g.blocks.size()))
+        fail("{}: grid.patch '{}' names block {} but '{}' has {} blocks", c.file, p.label, p.block + 1,
+             gc.plot3d_file, g.blocks.size());
+      Block& b = g.blocks[p.block];
+      Patch q;
+      q.side = p.side;
+      q.label = p.label;
+      for (int t = 0; t < 3; ++t) {
+        q.lo[t] = p.lo[t];
+        q.hi[t] = p.hi[t] < 0 ? b.n(t) : p.hi[t];
+      }
+      b.patches.push_back(q);
+    }
+  }
+  if (gc.split != Index3{1, 1, 1} || gc.split_rotate) g = split_blocks(g, gc.split, gc.split_rotate);
+  // Every labelled patch needs a BC (or a periodic partner); every BC a patch.
+  for (const auto& [label, bc] : c.bcs)
+    if (assign_bc(g, label, bc) == 0) fail("{}: [bc.{}] matches no patch of the grid", c.file, label);
+  for (const auto& p : c.periodic) {
+    const Mat3 R = Eigen::AngleAxisd(p.angle_deg * M_PI / 180.0, p.axis.normalized()).toRotationMatrix();
+    connect_periodic(g, p.a, p.b, R, p.translation);
+  }
+  finalize_grid(g);
+  return g;
+}
+
+}  // namespace narwhal

@@ -1,0 +1,78 @@
+#pragma once
+// The case file (TOML) as typed option structs, one per module, and the grid it
+// describes. Every key is documented in README.md ("Case file").
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "implicit/newton.hpp"
+#include "mesh/block.hpp"
+#include "mesh/generators.hpp"
+#include "mesh/setup.hpp"
+#include "physics/flow.hpp"
+#include "physics/manufactured.hpp"
+
+namespace narwhal {
+
+struct Plot3dPatch {
+  int block = 0;  // 0-based
+  int side = 0;
+  Index3 lo{0, 0, 0}, hi{0, 0, 0};
+  std::string label;
+};
+
+struct GridConfig {
+  std::string type;  // flat_plate | box | perturbed_box | plot3d
+  FlatPlateSpec plate;
+  std::array<std::vector<Real>, 3> box_nodes;  // box: node coordinates per direction
+  int perturbed_cells = 8;
+  Real perturbed_amplitude = 0.04;
+  std::string plot3d_file;
+  std::vector<Plot3dPatch> plot3d_patches;
+  Index3 split{1, 1, 1};
+  bool split_rotate = false;
+};
+
+struct PeriodicConfig {
+  std::string a, b;
+  std::optional<Vec3> translation;
+  Vec3 axis = Vec3::UnitX();
+  Real angle_deg = 0.0;
+};
+
+struct SolverConfig {
+  NewtonSettings newton;
+  int max_iterations = 1000;
+  Real residual_drop = 1e-10;      // converged when |R| / |R_0| falls below
+  Real divergence_factor = 1e4;    // diverged when |R| / |R_0| exceeds
+};
+
+struct OutputConfig {
+  int restart_interval = 100;
+  Real reference_area = 1.0;
+  Real reference_length = 1.0;
+  Vec3 moment_centre = Vec3::Zero();
+};
+
+struct CaseConfig {
+  std::string file, text, title;
+  GridConfig grid;
+  FlowParams flow;
+  State initial = State::Zero();
+  std::map<std::string, PatchBc> bcs;
+  std::vector<PeriodicConfig> periodic;
+  SolverConfig solver;
+  OutputConfig output;
+  bool manufactured = false;
+  ManufacturedSolution mms;
+};
+
+CaseConfig load_case(const std::string& path);
+CaseConfig parse_case(const std::string& text, const std::string& display_name, const std::string& base_dir);
+
+// Builds the grid (generator or import), applies BCs by label, connects periodic
+// pairs and free faces, computes the metrics and checks the result.
+Grid build_grid(const CaseConfig& c);
+
+}  // namespace narwhal

@@ -1,0 +1,185 @@
+#include "config/reader.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace narwhal {
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+ConfigReader::ConfigReader(const std::string& path) : file_(path) {
+  std::ifstream in(path);
+  if (!in) fail("cannot open case file '{}'", path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  parse(ss.str());
+}
+
+ConfigReader::ConfigReader(const std::string& text, const std::string& display_name) : file_(display_name) {
+  parse(text);
+}
+
+void ConfigReader::parse(const std::string& text) {
+  text_ = text;
+  try {
+    root_ = toml::parse(text_, file_);
+  } catch (const toml::parse_error& e) {
+    fail("{}:{}:{}: TOML syntax error: {}", file_, e.source().begin.line, e.source().begin.column, e.description());
+  }
+}
+
+void ConfigReader::error(const std::string& key, const std::string& message) const {
+  fail("{}: key '{}': {}", file_, key, message);
+}
+
+void ConfigReader::note(const std::string& key) const { known_.insert(key); }
+
+const toml::node* ConfigReader::find(const std::string& key) const {
+  note(key);
+  return root_.at_path(key).node();
+}
+
+bool ConfigReader::has(const std::string& key) const { return find(key) != nullptr; }
+
+namespace {
+const char* type_name(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a number";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::table: return "a table";
+    default: return "a date/time";
+  }
+}
+}  // namespace
+
+Real ConfigReader::number(const std::string& key, const std::string& what) const {
+  const toml::node* n = find(key);
+  if (!n) error(key, "missing required key (expected " + what + ")");
+  if (auto v = n->value<double>()) return *v;
+  error(key, std::string("expected ") + what + ", got " + type_name(*n));
+}
+
+Real ConfigReader::number_or(const std::string& key, Real fallback, const std::string& what) const {
+  return has(key) ? number(key, what) : fallback;
+}
+
+int ConfigReader::integer(const std::string& key, const std::string& what) const {
+  const toml::node* n = find(key);
+  if (!n) error(key, "missing required key (expected " + what + ")");
+  if (n->is_integer()) return static_cast<int>(*n->value<int64_t>());
+  error(key, std::string("expected ") + what + " (an integer), got " + type_name(*n));
+}
+
+int ConfigReader::integer_or(const std::string& key, int fallback, const std::string& what) const {
+  return has(key) ? integer(key, what) : fallback;
+}
+
+std::string ConfigReader::string(const std::string& key, const std::string& what) const {
+  const toml::node* n = find(key);
+  if (!n) error(key, "missing required key (expected " + what + ")");
+  if (auto v = n->value<std::string>()) return *v;
+  error(key, std::string("expected ") + what + " (a string), got " + type_name(*n));
+}
+
+std::string ConfigReader::string_or(const std::string& key, const std::string& fallback,
+                                    const std::string& what) const {
+  return has(key) ? string(key, what) : fallback;
+}
+
+bool ConfigReader::boolean_or(const std::string& key, bool fallback, const std::string& what) const {
+  const toml::node* n = find(key);
+  if (!n) return fallback;
+  if (auto v = n->value<bool>()) return *v;
+  error(key, std::string("expected ") + what + " (true or false), got " + type_name(*n));
+}
+
+Vec3 ConfigReader::vec3(const std::string& key, const std::string& what) const {
+  const toml::node* n = find(key);
+  if (!n) error(key, "missing required key (expected " + what + ")");
+  const toml::array* a = n->as_array();
+  if (!a || a->size() != 3) error(key, "expected " + what + " as an array of 3 numbers");
+  Vec3 v;
+  for (int m = 0; m < 3; ++m) {
+    auto x = (*a)[m].value<double>();
+    if (!x) error(key, "expected " + what + " as an array of 3 numbers");
+    v[m] = *x;
+  }
+  return v;
+}
+
+Vec3 ConfigReader::vec3_or(const std::string& key, const Vec3& fallback, const std::string& what) const {
+  return has(key) ? vec3(key, what) : fallback;
+}
+
+std::vector<std::string> ConfigReader::subtables(const std::string& key) const {
+  std::vector<std::string> names;
+  const toml::node* n = find(key);
+  if (!n) return names;
+  const toml::table* t = n->as_table();
+  if (!t) error(key, "expected a table");
+  for (const auto& [k, v] : *t) {
+    if (!v.is_table()) error(key + "." + std::string(k.str()), "expected a table");
+    names.emplace_back(k.str());
+  }
+  return names;
+}
+
+std::size_t ConfigReader::array_size(const std::string& key) const {
+  const toml::node* n = find(key);
+  if (!n) return 0;
+  const toml::array* a = n->as_array();
+  if (!a || !a->is_array_of_tables()) error(key, "expected an array of tables ([[" + key + "]])");
+  return a->size();
+}
+
+void ConfigReader::reject_unknown_keys() const {
+  std::vector<std::string> unknown;
+  std::function<void(const toml::table&, const std::string&)> walk = [&](const toml::table& t,
+                                                                         const std::string& prefix) {
+    for (const auto& [k, v] : t) {
+      const std::string path = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+      if (const toml::table* sub = v.as_table()) {
+        walk(*sub, path);
+      } else if (const toml::array* arr = v.as_array(); arr && arr->is_array_of_tables()) {
+        for (std::size_t i = 0; i < arr->size(); ++i)
+          walk(*(*arr)[i].as_table(), path + "[" + std::to_string(i) + "]");
+      } else if (!known_.count(path)) {
+        unknown.push_back(path);
+      }
+    }
+  };
+  walk(root_, "");
+  if (unknown.empty()) return;
+  std::string msg;
+  for (const auto& u : unknown) {
+    std::string best;
+    std::size_t best_d = 4;  // suggest only close matches
+    for (const auto& k : known_) {
+      const std::size_t d = edit_distance(u, k);
+      if (d < best_d) {
+        best_d = d;
+        best = k;
+      }
+    }
+    msg += fmt::format("\n  unknown key '{}'", u);
+    if (!best.empty()) msg += fmt::format(" (did you mean '{}'?)", best);
+  }
+  fail("{}: {}", file_, msg.substr(3));
+}
+
+}  // namespace narwhal

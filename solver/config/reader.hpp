@@ -1,0 +1,58 @@
+#pragma once
+// Strict reader over a parsed TOML file: every lookup is recorded, so that after
+// parsing, keys nobody asked for are reported (with the nearest known key as a
+// suggestion). All errors name the file, the dotted key and what was expected.
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "core/types.hpp"
+
+namespace narwhal {
+
+class ConfigReader {
+ public:
+  // Parses `path`; a syntax error is reported with its line and column.
+  explicit ConfigReader(const std::string& path);
+  ConfigReader(const std::string& text, const std::string& display_name);
+
+  const std::string& file() const { return file_; }
+  const std::string& text() const { return text_; }
+
+  bool has(const std::string& key) const;
+  Real number(const std::string& key, const std::string& what) const;
+  Real number_or(const std::string& key, Real fallback, const std::string& what) const;
+  int integer(const std::string& key, const std::string& what) const;
+  int integer_or(const std::string& key, int fallback, const std::string& what) const;
+  std::string string(const std::string& key, const std::string& what) const;
+  std::string string_or(const std::string& key, const std::string& fallback, const std::string& what) const;
+  bool boolean_or(const std::string& key, bool fallback, const std::string& what) const;
+  Vec3 vec3(const std::string& key, const std::string& what) const;
+  Vec3 vec3_or(const std::string& key, const Vec3& fallback, const std::string& what) const;
+  // Names of the sub-tables of `key` (e.g. the labels under [bc]).
+  std::vector<std::string> subtables(const std::string& key) const;
+  // Number of tables in an array of tables ([[periodic]]).
+  std::size_t array_size(const std::string& key) const;
+
+  // Throws naming every key that was never looked up.
+  void reject_unknown_keys() const;
+
+  [[noreturn]] void error(const std::string& key, const std::string& message) const;
+
+ private:
+  const toml::node* find(const std::string& key) const;
+  void note(const std::string& key) const;
+  void parse(const std::string& text);
+
+  std::string file_, text_;
+  toml::table root_;
+  mutable std::set<std::string> known_;
+};
+
+// Levenshtein distance, for "did you mean" suggestions.
+std::size_t edit_distance(const std::string& a, const std::string& b);
+
+}  // namespace narwhal

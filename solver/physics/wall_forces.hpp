@@ -1,0 +1,29 @@
+#pragma once
+// Surface quantities on no-slip walls (§4.5) and their integrals per wall group.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "mesh/block.hpp"
+#include "physics/flow.hpp"
+
+namespace narwhal {
+
+struct WallFace {
+  Vec3 x, n;  // face centroid; unit normal pointing into the fluid
+  Real area = 0.0, cp = 0.0, y_plus = 0.0;
+  Vec3 cf = Vec3::Zero();  // 2 tau_w (fluid on wall)
+};
+
+struct ForceCoefficients {
+  Vec3 force = Vec3::Zero();   // C_F = 2 F / A_ref
+  Vec3 moment = Vec3::Zero();  // C_M = 2 M / (A_ref L_ref)
+};
+
+// Wall faces grouped by patch label (ghosts must be filled).
+std::map<std::string, std::vector<WallFace>> wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp);
+
+ForceCoefficients integrate_forces(const std::vector<WallFace>& faces, Real area_ref, Real length_ref,
+                                   const Vec3& moment_centre);
+
+}  // namespace narwhal

@@ -1,0 +1,227 @@
+// Application contract (issue bar 6 and the outputs): clear errors for bad input,
+// restart equality, divergence diagnostics, and a CGNS file that cgnscheck accepts.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "app/driver.hpp"
+#include "io/restart.hpp"
+#include "mesh/plot3d.hpp"
+#include "test_support.hpp"
+
+namespace narwhal {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::string flat_plate_text() {
+  return slurp(test::source_path("validation/cases/flat_plate_laminar/flat_plate.toml"));
+}
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto pos = s.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  return s.replace(pos, from.size(), to);
+}
+
+std::string error_of(const std::string& text, const std::string& name = "case.toml") {
+  try {
+    CaseConfig c = parse_case(text, name, ".");
+    build_grid(c);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(CaseErrors, MissingKeyNamesFileKeyAndExpectation) {
+  const std::string e = error_of(replace(flat_plate_text(), "reynolds = 1.0e5", ""), "plate.toml");
+  EXPECT_NE(e.find("plate.toml"), std::string::npos) << e;
+  EXPECT_NE(e.find("flow.reynolds"), std::string::npos) << e;
+  EXPECT_NE(e.find("missing required key"), std::string::npos) << e;
+}
+
+TEST(CaseErrors, MisspelledKeySuggestsTheRightOne) {
+  const std::string e = error_of(replace(flat_plate_text(), "cells_plate", "cells_plat"), "plate.toml");
+  EXPECT_NE(e.find("unknown key 'grid.cells_plat'"), std::string::npos) << e;
+  EXPECT_NE(e.find("did you mean 'grid.cells_plate'"), std::string::npos) << e;
+}
+
+TEST(CaseErrors, WrongTypeSaysWhatWasExpected) {
+  const std::string e = error_of(replace(flat_plate_text(), "reynolds = 1.0e5", "reynolds = \"high\""));
+  EXPECT_NE(e.find("flow.reynolds"), std::string::npos) << e;
+  EXPECT_NE(e.find("got a string"), std::string::npos) << e;
+}
+
+TEST(CaseErrors, UnknownBoundaryTypeListsTheValidOnes) {
+  const std::string e = error_of(replace(flat_plate_text(), "type = \"wall\"", "type = \"wal\""));
+  EXPECT_NE(e.find("bc.plate.type"), std::string::npos) << e;
+  EXPECT_NE(e.find("valid types: wall"), std::string::npos) << e;
+}
+
+TEST(CaseErrors, MissingGridFileIsNamed) {
+  const std::string text = "[grid]\ntype = \"plot3d\"\nfile = \"no_such_grid.xyz\"\n[flow]\nreynolds = 10.0\n";
+  const std::string e = error_of(text);
+  EXPECT_NE(e.find("no_such_grid.xyz"), std::string::npos) << e;
+  EXPECT_NE(e.find("does not exist"), std::string::npos) << e;
+}
+
+TEST(CaseErrors, TruncatedPlot3dIsReported) {
+  Grid g;
+  g.blocks.push_back(make_box("b", uniform_nodes(0, 1, 4), uniform_nodes(0, 1, 3), uniform_nodes(0, 1, 2)));
+  const fs::path dir = fs::temp_directory_path() / "narwhal_p3d";
+  fs::create_directories(dir);
+  for (bool ascii : {true, false}) {
+    const std::string path = (dir / (ascii ? "g.x" : "g.xyz")).string();
+    ascii ? write_plot3d_ascii(path, g.blocks) : write_plot3d_fortran(path, g.blocks);
+    // Round trip first.
+    const auto back = read_plot3d(path);
+    ASSERT_EQ(back.size(), 1u);
+    EXPECT_EQ(back[0].ni, 4);
+    EXPECT_LT((back[0].x(4, 3, 2) - g.blocks[0].x(4, 3, 2)).norm(), 1e-15);
+    fs::resize_file(path, fs::file_size(path) - (ascii ? 30 : 16));
+    std::string e;
+    try {
+      read_plot3d(path);
+    } catch (const Error& err) {
+      e = err.what();
+    }
+    EXPECT_NE(e.find("truncated"), std::string::npos) << e;
+    EXPECT_NE(e.find(path), std::string::npos) << e;
+  }
+}
+
+TEST(CaseErrors, LabelWithoutBoundaryConditionIsReported) {
+  const std::string e = error_of(replace(flat_plate_text(), "[bc.runup]\ntype = \"symmetry\"", ""));
+  EXPECT_NE(e.find("'runup'"), std::string::npos) << e;
+  EXPECT_NE(e.find("no boundary condition"), std::string::npos) << e;
+}
+
+// A small, fast version of the flat plate for the run-level tests.
+CaseConfig small_plate() {
+  std::string t = flat_plate_text();
+  t = replace(t, "cells_runup = 32", "cells_runup = 8");
+  t = replace(t, "cells_plate = 96", "cells_plate = 24");
+  t = replace(t, "cells_normal = 64", "cells_normal = 24");
+  t = replace(t, "dx_leading_edge = 2.0e-3", "dx_leading_edge = 1.0e-2");
+  t = replace(t, "dy_wall = 1.0e-4", "dy_wall = 1.0e-3");
+  return parse_case(t, "small_plate.toml", ".");
+}
+
+std::vector<std::string> history_rows(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> rows;
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    // Drop the wall-clock column (2nd): everything else must match to the last digit.
+    const auto a = line.find(','), b = line.find(',', a + 1);
+    rows.push_back(line.substr(0, a) + line.substr(b));
+  }
+  return rows;
+}
+
+TEST(Restart, ContinuingFromRestartReproducesTheUninterruptedHistory) {
+  const CaseConfig c = small_plate();
+  const fs::path dir = fs::temp_directory_path() / "narwhal_restart_test";
+  fs::remove_all(dir);
+  RunOptions full;
+  full.out_dir = (dir / "full").string();
+  full.max_iterations = 40;
+  run_case(c, full);
+  RunOptions first = full;
+  first.out_dir = (dir / "split").string();
+  first.max_iterations = 20;
+  run_case(c, first);
+  RunOptions second = first;
+  second.max_iterations = 40;
+  second.restart = (dir / "split" / "restart.h5").string();
+  fs::copy_file(*second.restart, dir / "restart20.h5");
+  second.restart = (dir / "restart20.h5").string();
+  run_case(c, second);
+  const auto a = history_rows((dir / "full" / "history.csv").string());
+  const auto b = history_rows((dir / "split" / "history.csv").string());
+  ASSERT_EQ(a.size(), 40u);
+  ASSERT_EQ(b.size(), 40u);
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "iteration " << i + 1;
+}
+
+TEST(Robustness, NonFiniteStateIsReportedWithBlockCellAndEquation) {
+  const CaseConfig c = small_plate();
+  Grid g = build_grid(c);
+  const FlowParams fp = flow_params(c);
+  FlowField f;
+  f.allocate(g, fp, c.initial);
+  f.Q[0](5, 3, 0)[2] = std::nan("");
+  NewtonSolver s(g, f, fp, c.solver.newton);
+  std::string e;
+  try {
+    s.evaluate_residual();
+  } catch (const DivergenceError& err) {
+    e = err.what();
+  }
+  EXPECT_NE(e.find("block 'plate'"), std::string::npos) << e;
+  EXPECT_NE(e.find("(5, 3, 0)"), std::string::npos) << e;
+  EXPECT_NE(e.find(" v "), std::string::npos) << e;
+}
+
+TEST(Robustness, DivergingRunStopsAndKeepsTheLastGoodRestart) {
+  CaseConfig c = small_plate();
+  c.output.restart_interval = 2;
+  // An absurd artificial compressibility makes the pressure waves explode.
+  c.flow.beta = 1e-12;
+  c.solver.newton.cfl_start = 1e8;
+  c.solver.newton.cfl_max = 1e12;
+  const fs::path dir = fs::temp_directory_path() / "narwhal_diverge_test";
+  fs::remove_all(dir);
+  RunOptions o;
+  o.out_dir = dir.string();
+  o.max_iterations = 200;
+  const RunSummary s = run_case(c, o);
+  ASSERT_EQ(s.status, RunStatus::Diverged) << "drop " << s.residual_drop;
+  std::printf("diverged run: %s (after %d iterations)\n", s.message.c_str(), s.iterations);
+  EXPECT_NE(s.message.find("restart"), std::string::npos) << s.message;
+  const std::string json = slurp((dir / "run.json").string());
+  EXPECT_NE(json.find("\"status\": \"diverged\""), std::string::npos);
+  // The kept restart is the last finite state, written before the blow-up.
+  EXPECT_NE(s.message.find("last good restart.h5 is kept"), std::string::npos) << s.message;
+  Grid g = build_grid(c);
+  FlowField f;
+  f.allocate(g, flow_params(c), c.initial);
+  const RestartInfo info = read_restart((dir / "restart.h5").string(), g, f);
+  EXPECT_GE(info.iteration, 2);
+  EXPECT_LE(info.iteration, s.iterations);  // s.iterations counts completed iterations
+  for (const auto& q : f.Q[0].raw()) EXPECT_TRUE(q.allFinite());
+}
+
+TEST(Outputs, RunWritesTheContractFilesAndCgnscheckAcceptsTheSolution) {
+  CaseConfig c = small_plate();
+  c.grid.split = {2, 1, 1};
+  c.grid.split_rotate = true;
+  const fs::path dir = fs::temp_directory_path() / "narwhal_outputs_test";
+  fs::remove_all(dir);
+  RunOptions o;
+  o.out_dir = dir.string();
+  o.max_iterations = 5;
+  run_case(c, o);
+  for (const char* f : {"history.csv", "surface_plate.csv", "solution.cgns", "restart.h5", "run.json"})
+    EXPECT_TRUE(fs::exists(dir / f)) << f;
+  const auto surf = test::read_csv((dir / "surface_plate.csv").string());
+  EXPECT_EQ(surf.at("cf_x").size(), 24u);
+  const std::string cmd = "cgnscheck " + (dir / "solution.cgns").string() + " > " + (dir / "cgnscheck.log").string() + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  const std::string log = slurp((dir / "cgnscheck.log").string());
+  EXPECT_EQ(rc, 0) << log;
+  EXPECT_EQ(log.find("ERROR"), std::string::npos) << log;
+}
+
+}  // namespace
+}  // namespace narwhal

@@ -1,0 +1,52 @@
+#pragma once
+// Helpers shared by the solver tests: small grids, converged runs, CSV reading.
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bc/boundary.hpp"
+#include "config/case_config.hpp"
+#include "implicit/newton.hpp"
+#include "mesh/connectivity.hpp"
+#include "mesh/generators.hpp"
+#include "mesh/setup.hpp"
+
+namespace narwhal::test {
+
+inline std::string source_path(const std::string& rel) { return std::string(NARWHAL_SOURCE_DIR) + "/" + rel; }
+
+// Columns of a CSV file with '#' comment lines and one header row.
+inline std::map<std::string, std::vector<double>> read_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open " + path);
+  std::string line;
+  std::vector<std::string> names;
+  std::map<std::string, std::vector<double>> cols;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::stringstream ss(line);
+    std::string cell;
+    if (names.empty()) {
+      while (std::getline(ss, cell, ',')) names.push_back(cell);
+      continue;
+    }
+    for (std::size_t c = 0; std::getline(ss, cell, ','); ++c) cols[names.at(c)].push_back(std::stod(cell));
+  }
+  return cols;
+}
+
+// Iterate to a residual drop (or the iteration limit); returns the drop reached.
+inline Real converge(NewtonSolver& s, Real drop, int max_it) {
+  Real first = -1.0, last = 1.0;
+  for (int it = 0; it < max_it; ++it) {
+    const auto n = s.iterate();
+    if (first < 0) first = n.total;
+    last = n.total;
+    if (last <= drop * first) break;
+  }
+  return last / first;
+}
+
+}  // namespace narwhal::test
