@@ -136,8 +136,8 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
       s.residual_drop = last.total / solver.reference_norm();
       if (!std::isfinite(last.total) || s.residual_drop > c.solver.divergence_factor) {
         s.status = RunStatus::Diverged;
-        s.message = fmt::format("residual grew by {:.2e} (limit {:.1e}) at iteration {}", s.residual_drop,
-                                c.solver.divergence_factor, it);
+        s.message = fmt::format("iteration {}: residual grew by {:.2e} (limit {:.1e}); largest at {}", it,
+                                s.residual_drop, c.solver.divergence_factor, solver.describe_largest_residual());
         break;
       }
       if (s.residual_drop < c.solver.residual_drop) {

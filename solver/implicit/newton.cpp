@@ -106,6 +106,26 @@ void NewtonSolver::check_finite() const {
     }
 }
 
+std::string NewtonSolver::describe_largest_residual() const {
+  Real worst = -1.0;
+  std::string where;
+  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    const Block& b = g_.blocks[ib];
+    for (int k = 0; k < b.nk; ++k)
+      for (int j = 0; j < b.nj; ++j)
+        for (int i = 0; i < b.ni; ++i)
+          for (int m = 0; m < kNumEq; ++m) {
+            const Real r = std::abs(R_[ib](i, j, k)[m]) / b.vol(i, j, k);
+            if (r > worst) {
+              worst = r;
+              where = fmt::format("block '{}' cell ({}, {}, {}), {} equation: |R|/V = {:.3e}", b.name, i, j, k,
+                                  kEquationNames[m], r);
+            }
+          }
+  }
+  return where;
+}
+
 IterationNorms NewtonSolver::evaluate_residual() {
   fill_ghosts(g_, f_, fp_);
   compute_residual(g_, f_, fp_, R_);

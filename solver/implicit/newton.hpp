@@ -3,6 +3,7 @@
 // Jacobians (§6.3), 7-point block matrix (§6.4), symmetric Gauss-Seidel sweeps
 // (§6.5), local pseudo-time step with switched-evolution-relaxation CFL (§6.6).
 #include <array>
+#include <string>
 #include <vector>
 
 #include "core/error.hpp"
@@ -52,6 +53,9 @@ class NewtonSolver {
   // Checks every residual and state entry; throws DivergenceError naming the
   // first non-finite one.
   void check_finite() const;
+
+  // "block 'b' cell (i, j, k), equation u: |R|/V = ..." for the largest residual.
+  std::string describe_largest_residual() const;
 
  private:
   void assemble_block(int ib, Real cfl);

@@ -99,6 +99,32 @@ TEST(CaseErrors, TruncatedPlot3dIsReported) {
   }
 }
 
+TEST(Plot3d, RawCBinaryMultiBlockRoundTrip) {
+  std::vector<Block> blocks;
+  blocks.push_back(make_box("a", uniform_nodes(0, 1, 3), uniform_nodes(0, 1, 2), uniform_nodes(0, 1, 2)));
+  blocks.push_back(make_box("b", uniform_nodes(1, 2, 2), uniform_nodes(0, 1, 2), uniform_nodes(0, 1, 2)));
+  const std::string path = (fs::temp_directory_path() / "narwhal_raw.xyz").string();
+  {
+    std::ofstream out(path, std::ios::binary);
+    auto w32 = [&](int32_t v) { out.write(reinterpret_cast<const char*>(&v), 4); };
+    w32(2);
+    for (const auto& b : blocks) {
+      w32(b.ni + 1);
+      w32(b.nj + 1);
+      w32(b.nk + 1);
+    }
+    for (const auto& b : blocks)
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k <= b.nk; ++k)
+          for (int j = 0; j <= b.nj; ++j)
+            for (int i = 0; i <= b.ni; ++i) out.write(reinterpret_cast<const char*>(&b.x(i, j, k)[c]), 8);
+  }
+  const auto back = read_plot3d(path);
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(back[1].ni, 2);
+  EXPECT_LT((back[1].x(2, 2, 2) - Vec3(2, 1, 1)).norm(), 1e-15);
+}
+
 TEST(CaseErrors, LabelWithoutBoundaryConditionIsReported) {
   const std::string e = error_of(replace(flat_plate_text(), "[bc.runup]\ntype = \"symmetry\"", ""));
   EXPECT_NE(e.find("'runup'"), std::string::npos) << e;
@@ -200,6 +226,20 @@ TEST(Robustness, DivergingRunStopsAndKeepsTheLastGoodRestart) {
   EXPECT_GE(info.iteration, 2);
   EXPECT_LE(info.iteration, s.iterations);  // s.iterations counts completed iterations
   for (const auto& q : f.Q[0].raw()) EXPECT_TRUE(q.allFinite());
+}
+
+TEST(Robustness, ResidualBlowUpNamesTheWorstCell) {
+  // A divergence limit below 1 makes the very first residual count as a blow-up,
+  // which exercises the finite-blow-up path of the driver deterministically.
+  CaseConfig c = small_plate();
+  c.solver.divergence_factor = 0.5;
+  RunOptions o;
+  o.out_dir = (fs::temp_directory_path() / "narwhal_blowup_test").string();
+  o.max_iterations = 3;
+  const RunSummary s = run_case(c, o);
+  ASSERT_EQ(s.status, RunStatus::Diverged);
+  EXPECT_NE(s.message.find("block 'plate' cell ("), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("equation: |R|/V ="), std::string::npos) << s.message;
 }
 
 TEST(Outputs, RunWritesTheContractFilesAndCgnscheckAcceptsTheSolution) {

@@ -5,6 +5,8 @@
 
 #include <random>
 
+#include <Eigen/Geometry>
+
 #include "mesh/ghost_sweep.hpp"
 #include "physics/residual.hpp"
 #include "test_support.hpp"
@@ -174,6 +176,48 @@ TEST(BoundaryGhosts, InterfaceAndPeriodicGhostsCopyTheDonorCells) {
     }
   // Ghost-node geometry of the periodic pair is the translated donor.
   EXPECT_NEAR(g.blocks[0].xc(-1, 1, 1).x(), -0.125, 1e-15);
+}
+
+TEST(BoundaryGhosts, RotationalPeriodicGhostsAreTheRotatedDonor) {
+  // A 30-degree sector of an annulus about the x axis; solid-body swirl is
+  // rotationally periodic, so every ghost must equal the field at its centre.
+  const Real angle = 30.0 * M_PI / 180.0;
+  const int nr = 3, nt = 4, nx = 2;
+  Block b("sector", nx, nr, nt);
+  for (int k = 0; k <= nt; ++k)
+    for (int j = 0; j <= nr; ++j)
+      for (int i = 0; i <= nx; ++i) {
+        const Real r = 1.0 + Real(j) / nr, th = angle * k / nt;
+        b.x(i, j, k) = Vec3(Real(i) / nx, r * std::cos(th), r * std::sin(th));
+      }
+  for (int s2 = 0; s2 < 6; ++s2) {
+    Patch p;
+    p.side = s2;
+    p.hi = b.dims();
+    p.label = side_name(s2);
+    b.patches.push_back(p);
+  }
+  Grid g;
+  g.blocks.push_back(b);
+  for (auto s2 : {"imin", "imax", "jmin", "jmax"}) assign_bc(g, s2, {BcType::Symmetry});
+  const Mat3 R = Eigen::AngleAxisd(angle, Vec3::UnitX()).toRotationMatrix();
+  connect_periodic(g, "kmax", "kmin", R, Vec3::Zero());
+  finalize_grid(g);
+  auto swirl = [](const Vec3& x) { return State(0.1 * x[0], 0.3, -0.7 * x[2], 0.7 * x[1]); };
+  FlowParams fp;
+  FlowField f;
+  f.allocate(g, fp, State::Zero());
+  const Block& B = g.blocks[0];
+  for (int k = 0; k < nt; ++k)
+    for (int j = 0; j < nr; ++j)
+      for (int i = 0; i < nx; ++i) f.Q[0](i, j, k) = swirl(B.xc(i, j, k));
+  fill_ghosts(g, f, fp);
+  for (int j = 0; j < nr; ++j)
+    for (int i = 0; i < nx; ++i)
+      for (int k : {-2, -1, nt, nt + 1}) {
+        EXPECT_LT((f.Q[0](i, j, k) - swirl(B.xc(i, j, k))).norm(), 1e-13) << i << " " << j << " " << k;
+        EXPECT_GT(B.vol(i, j, k), 0.0);
+      }
 }
 
 TEST(Conservation, CellResidualsSumToTheBoundaryFluxes) {
