@@ -12,8 +12,8 @@ using namespace narwhal;
 
 namespace {
 
-int check_case(const std::string& path) {
-  const CaseConfig c = load_case(path);
+int check_case(const std::string& path, const std::vector<std::string>& overrides) {
+  const CaseConfig c = load_case(path, overrides);
   const Grid g = build_grid(c);
   fmt::print("{}: OK — {}\n", path, c.title);
   fmt::print("  grid: {} block(s), {} cells, {} interface(s)\n", g.blocks.size(), g.cells(), g.interfaces.size() / 2);
@@ -42,25 +42,28 @@ int main(int argc, char** argv) {
 
   std::string case_path, out_dir = "run", restart;
   int max_iterations = -1;
+  std::vector<std::string> overrides;
   auto* run = app.add_subcommand("run", "run a case: writes history.csv, surface_*.csv, solution.cgns, restart.h5, run.json");
   run->add_option("case", case_path, "case file (TOML)")->required();
   run->add_option("--out,-o", out_dir, "output directory")->capture_default_str();
   run->add_option("--restart", restart, "continue from this restart.h5");
   run->add_option("--max-iterations", max_iterations, "override solver.max_iterations");
+  run->add_option("--set", overrides, "override a case key, e.g. --set grid.cells_plate=48 (value in TOML syntax)");
 
   std::string check_path;
   auto* check = app.add_subcommand("check", "validate a case file and its grid without running");
   check->add_option("case", check_path, "case file (TOML)")->required();
+  check->add_option("--set", overrides, "override a case key (value in TOML syntax)");
 
   CLI11_PARSE(app, argc, argv);
   try {
-    if (*check) return check_case(check_path);
+    if (*check) return check_case(check_path, overrides);
     RunOptions opt;
     opt.out_dir = out_dir;
     if (!restart.empty()) opt.restart = restart;
     if (max_iterations >= 0) opt.max_iterations = max_iterations;
     opt.progress = isatty(STDOUT_FILENO);
-    const RunSummary s = run_case(load_case(case_path), opt);
+    const RunSummary s = run_case(load_case(case_path, overrides), opt);
     return s.status == RunStatus::Diverged ? 3 : (s.status == RunStatus::Converged ? 0 : 1);
   } catch (const Error& e) {
     fmt::print(stderr, "narwhal: error: {}\n", e.what());

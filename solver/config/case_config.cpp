@@ -92,8 +92,10 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
 
 }  // namespace
 
-CaseConfig parse_case(const std::string& text, const std::string& display_name, const std::string& base_dir) {
+CaseConfig parse_case(const std::string& text, const std::string& display_name, const std::string& base_dir,
+                      const std::vector<std::string>& overrides) {
   ConfigReader r(text, display_name);
+  for (const auto& o : overrides) r.apply_override(o);
   CaseConfig c;
   c.file = display_name;
   c.text = text;
@@ -160,10 +162,12 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   return c;
 }
 
-CaseConfig load_case(const std::string& path) {
+CaseConfig load_case(const std::string& path, const std::vector<std::string>& overrides) {
   ConfigReader probe(path);  // reads the file and reports syntax errors with the path
   const std::string base = std::filesystem::path(path).parent_path().string();
-  return parse_case(probe.text(), path, base.empty() ? "." : base);
+  CaseConfig c = parse_case(probe.text(), path, base.empty() ? "." : base, overrides);
+  for (const auto& o : overrides) c.text += "\n# override: " + o;
+  return c;
 }
 
 Grid build_grid(const CaseConfig& c) {

@@ -68,8 +68,10 @@ struct CaseConfig {
   ManufacturedSolution mms;
 };
 
-CaseConfig load_case(const std::string& path);
-CaseConfig parse_case(const std::string& text, const std::string& display_name, const std::string& base_dir);
+// `overrides` are "dotted.key=value" assignments applied on top of the file.
+CaseConfig load_case(const std::string& path, const std::vector<std::string>& overrides = {});
+CaseConfig parse_case(const std::string& text, const std::string& display_name, const std::string& base_dir,
+                      const std::vector<std::string>& overrides = {});
 
 // Builds the grid (generator or import), applies BCs by label, connects periodic
 // pairs and free faces, computes the metrics and checks the result.

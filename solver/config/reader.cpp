@@ -40,6 +40,29 @@ void ConfigReader::parse(const std::string& text) {
   }
 }
 
+void ConfigReader::apply_override(const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) fail("override '{}': expected key=value", assignment);
+  std::string key = assignment.substr(0, eq);
+  key.erase(key.find_last_not_of(' ') + 1);
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + assignment.substr(eq + 1));
+  } catch (const toml::parse_error& e) {
+    fail("override '{}': the value is not valid TOML: {}", assignment, e.description());
+  }
+  toml::table* t = &root_;
+  std::size_t start = 0;
+  for (std::size_t dot; (dot = key.find('.', start)) != std::string::npos; start = dot + 1) {
+    const std::string part = key.substr(start, dot - start);
+    toml::node* n = t->get(part);
+    if (!n) n = &t->insert_or_assign(part, toml::table{}).first->second;
+    t = n->as_table();
+    if (!t) fail("override '{}': '{}' is not a table in {}", assignment, part, file_);
+  }
+  t->insert_or_assign(key.substr(start), *parsed.get("v"));
+}
+
 void ConfigReader::error(const std::string& key, const std::string& message) const {
   fail("{}: key '{}': {}", file_, key, message);
 }

@@ -19,6 +19,10 @@ class ConfigReader {
   explicit ConfigReader(const std::string& path);
   ConfigReader(const std::string& text, const std::string& display_name);
 
+  // Applies "dotted.key=value" (value in TOML syntax) before anything is read;
+  // missing intermediate tables are created.
+  void apply_override(const std::string& assignment);
+
   const std::string& file() const { return file_; }
   const std::string& text() const { return text_; }
 

@@ -67,6 +67,21 @@ TEST(CaseErrors, UnknownBoundaryTypeListsTheValidOnes) {
   EXPECT_NE(e.find("valid types: wall"), std::string::npos) << e;
 }
 
+TEST(CaseOverrides, SetReplacesAndCreatesKeysAndUnknownOnesAreRejected) {
+  const CaseConfig c = parse_case(flat_plate_text(), "p.toml", ".", {"grid.cells_plate=48", "solver.cfl_start = 3.5"});
+  EXPECT_EQ(c.grid.plate.n_plate, 48);
+  EXPECT_EQ(c.solver.newton.cfl_start, 3.5);
+  const CaseConfig d = parse_case(flat_plate_text(), "p.toml", ".", {"output.reference_length=2.0"});
+  EXPECT_EQ(d.output.reference_length, 2.0);
+  std::string e;
+  try {
+    parse_case(flat_plate_text(), "p.toml", ".", {"grid.cells_plat=48"});
+  } catch (const Error& err) {
+    e = err.what();
+  }
+  EXPECT_NE(e.find("did you mean 'grid.cells_plate'"), std::string::npos) << e;
+}
+
 TEST(CaseErrors, MissingGridFileIsNamed) {
   const std::string text = "[grid]\ntype = \"plot3d\"\nfile = \"no_such_grid.xyz\"\n[flow]\nreynolds = 10.0\n";
   const std::string e = error_of(text);
