@@ -27,10 +27,13 @@ const char* to_string(RunStatus s) {
 
 FlowParams flow_params(const CaseConfig& c) {
   FlowParams fp = c.flow;
+  const Vec3 g = c.body_force;
   if (c.manufactured) {
     const ManufacturedSolution ms = c.mms;
-    fp.momentum_source = [ms](const Vec3& x) { return ms.momentum_source(x); };
+    fp.momentum_source = [ms, g](const Vec3& x) { return Vec3(ms.momentum_source(x) + g); };
     fp.exact = [ms](const Vec3& x) { return ms.exact(x); };
+  } else if (g.squaredNorm() > 0.0) {
+    fp.momentum_source = [g](const Vec3&) { return g; };
   }
   return fp;
 }

@@ -116,6 +116,7 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   f.muscl.phi = r.number_or("flow.muscl_phi", f.muscl.phi, "the MUSCL phi (0 first order, 1 higher order)");
   c.initial[0] = r.number_or("flow.initial_pressure", 0.0, "the initial pressure");
   c.initial.tail<3>() = r.vec3_or("flow.initial_velocity", Vec3(1, 0, 0), "the initial velocity [u, v, w]");
+  c.body_force = r.vec3_or("flow.body_force", Vec3::Zero(), "a constant body force per unit volume [fx, fy, fz]");
   c.manufactured = r.boolean_or("flow.manufactured_solution", false, "whether to run the §12.2 manufactured solution");
   if (c.manufactured) c.mms.nu = 1.0 / f.reynolds;
 

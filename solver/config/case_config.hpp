@@ -64,6 +64,7 @@ struct CaseConfig {
   std::vector<PeriodicConfig> periodic;
   SolverConfig solver;
   OutputConfig output;
+  Vec3 body_force = Vec3::Zero();  // constant momentum source per unit volume (drives periodic ducts)
   bool manufactured = false;
   ManufacturedSolution mms;
 };

@@ -1,0 +1,1 @@
+"""Narwhal validation harness: rungs as data, checks with tolerances, HTML reports."""

@@ -1,0 +1,176 @@
+"""Rung definitions (validation/cases/<rung>/case.toml), read strictly.
+
+A rung declares the solver runs it needs (optionally grouped in grid families), the
+tiers they belong to, and its checks. Unknown keys, wrong types and missing keys are
+errors naming the file and the dotted key.
+"""
+import difflib
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .errors import HarnessError
+
+TIERS = ("quick", "nightly")
+COMPARATORS = ("abs", "rel", "profile_rms", "profile_max", "observed_order", "gci", "restart_equal")
+
+
+@dataclass
+class Run:
+    id: str
+    input: Path
+    tiers: tuple
+    set: dict            # "dotted.key" -> TOML literal (string), passed as narwhal --set
+    family: str = ""     # grid family name, '' for single runs
+    h: float = 0.0       # representative spacing within the family
+    max_iterations: int = 0   # 0: the input's own limit
+    restart_from: str = ""    # id of a run whose restart.h5 this run continues
+
+
+@dataclass
+class Check:
+    name: str
+    tiers: tuple
+    extract: dict
+    reference: dict
+    comparator: str
+    tolerance: float
+    rationale: str
+    options: dict = field(default_factory=dict)
+
+
+@dataclass
+class Rung:
+    name: str
+    title: str
+    directory: Path
+    tiers: tuple
+    timeout_s: float
+    runs: list
+    checks: list
+    plots: list
+
+
+class _Reader:
+    """Looks keys up in a TOML table and remembers which were used."""
+
+    def __init__(self, path, table, prefix=""):
+        self.path, self.table, self.prefix, self.used = path, table, prefix, set()
+
+    def _key(self, k):
+        return f"{self.prefix}{k}"
+
+    def get(self, key, kind, what, default=None, required=False):
+        self.used.add(key)
+        if key not in self.table:
+            if required:
+                raise HarnessError(f"{self.path}: key '{self._key(key)}': missing required key (expected {what})")
+            return default
+        v = self.table[key]
+        ok = isinstance(v, kind) and not (kind in (int, float) and isinstance(v, bool))
+        if kind is float and isinstance(v, int) and not isinstance(v, bool):
+            v, ok = float(v), True
+        if not ok:
+            raise HarnessError(f"{self.path}: key '{self._key(key)}': expected {what}, got {type(v).__name__} {v!r}")
+        return v
+
+    def finish(self):
+        unknown = [k for k in self.table if k not in self.used]
+        if unknown:
+            msgs = []
+            for k in unknown:
+                close = difflib.get_close_matches(k, sorted(self.used), n=1)
+                hint = f" (did you mean '{self._key(close[0])}'?)" if close else ""
+                msgs.append(f"unknown key '{self._key(k)}'{hint}")
+            raise HarnessError(f"{self.path}: " + "; ".join(msgs))
+
+
+def _tiers(r, key, default, what):
+    t = r.get(key, list, what, default=list(default))
+    for x in t:
+        if x not in TIERS:
+            raise HarnessError(f"{r.path}: key '{r._key(key)}': unknown tier {x!r}; valid: {', '.join(TIERS)}")
+    return tuple(t)
+
+
+def _literal(v):
+    """A Python value from tomllib back to TOML syntax for narwhal --set."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, str):
+        return '"' + v.replace('\\', '\\\\').replace('"', '\\"') + '"'
+    if isinstance(v, list):
+        return "[" + ", ".join(_literal(x) for x in v) + "]"
+    raise HarnessError(f"cannot pass {v!r} to narwhal --set")
+
+
+def load_rung(path):
+    path = Path(path)
+    try:
+        with open(path, "rb") as f:
+            data = tomllib.load(f)
+    except FileNotFoundError:
+        raise HarnessError(f"{path}: rung file does not exist")
+    except tomllib.TOMLDecodeError as e:
+        raise HarnessError(f"{path}: TOML syntax error: {e}")
+    top = _Reader(path, data)
+    meta = _Reader(path, top.get("rung", dict, "a [rung] table", required=True), "rung.")
+    title = meta.get("title", str, "a one-line title", required=True)
+    tiers = _tiers(meta, "tiers", (), "a list of tiers")
+    if not tiers:
+        raise HarnessError(f"{path}: key 'rung.tiers': at least one tier is required")
+    timeout = meta.get("timeout_s", float, "a time limit in seconds", default=1800.0)
+    meta.finish()
+
+    runs = []
+    for i, t in enumerate(top.get("run", list, "an array of [[run]] tables", default=[])):
+        r = _Reader(path, t, f"run[{i}].")
+        rid = r.get("id", str, "a run id", required=True)
+        inp = path.parent / r.get("input", str, "the solver input file (relative to the rung)", required=True)
+        if not inp.exists():
+            raise HarnessError(f"{path}: key 'run[{i}].input': solver input '{inp}' does not exist")
+        sets = {k: _literal(v) for k, v in r.get("set", dict, "a table of overrides", default={}).items()}
+        runs.append(Run(id=rid, input=inp, tiers=_tiers(r, "tiers", tiers, "a list of tiers"), set=sets,
+                        family=r.get("family", str, "a grid-family name", default=""),
+                        h=r.get("h", float, "the representative grid spacing", default=0.0),
+                        max_iterations=r.get("max_iterations", int, "an iteration limit", default=0),
+                        restart_from=r.get("restart_from", str, "the id of the run to continue", default="")))
+        r.finish()
+    ids = [x.id for x in runs]
+    if len(set(ids)) != len(ids):
+        raise HarnessError(f"{path}: run ids must be unique, got {ids}")
+    for x in runs:
+        if x.family and x.h <= 0.0:
+            raise HarnessError(f"{path}: run '{x.id}' is in family '{x.family}' but has no positive 'h'")
+        if x.restart_from and x.restart_from not in ids:
+            raise HarnessError(f"{path}: run '{x.id}': restart_from names unknown run '{x.restart_from}'")
+
+    checks = []
+    for i, t in enumerate(top.get("check", list, "an array of [[check]] tables", default=[])):
+        r = _Reader(path, t, f"check[{i}].")
+        comp = r.get("comparator", str, "a comparator", required=True)
+        if comp not in COMPARATORS:
+            raise HarnessError(f"{path}: key 'check[{i}].comparator': unknown comparator {comp!r}; "
+                               f"valid: {', '.join(COMPARATORS)}")
+        c = Check(name=r.get("name", str, "a check name", required=True),
+                  tiers=_tiers(r, "tiers", tiers, "a list of tiers"),
+                  extract=r.get("extract", dict, "an extractor table", required=True),
+                  reference=r.get("reference", dict, "a reference table", default={}),
+                  comparator=comp,
+                  tolerance=r.get("tolerance", float, "a numeric tolerance", required=True),
+                  rationale=r.get("rationale", str, "a one-line reason for the tolerance", required=True),
+                  options=r.get("options", dict, "a table of comparator options", default={}))
+        if not c.rationale.strip():
+            raise HarnessError(f"{path}: key 'check[{i}].rationale': must say why the tolerance is what it is")
+        r.finish()
+        checks.append(c)
+    plots = top.get("plot", list, "an array of [[plot]] tables", default=[])
+    top.finish()
+    return Rung(name=path.parent.name, title=title, directory=path.parent, tiers=tiers, timeout_s=timeout,
+                runs=runs, checks=checks, plots=plots)
+
+
+def discover(cases_dir):
+    return sorted(p for p in Path(cases_dir).glob("*/case.toml"))

@@ -1,0 +1,228 @@
+"""Extractors: turn a rung's run outputs (history.csv, surface_*.csv, run.json,
+solution.cgns, restart.h5 never) into the numbers and curves its checks compare.
+The screen log is never read."""
+import csv
+import json
+import math
+
+import numpy as np
+
+from . import exact
+from .compare import Curve, Family
+from .errors import HarnessError
+from .solution import read_solution
+
+
+def read_csv(path):
+    with open(path) as f:
+        rows = [r for r in csv.reader(line for line in f if not line.startswith("#"))]
+    if not rows:
+        raise HarnessError(f"{path} is empty")
+    names = rows[0]
+    data = np.array([[float(v) for v in r] for r in rows[1:]]) if len(rows) > 1 else np.zeros((0, len(names)))
+    return {n: data[:, i] for i, n in enumerate(names)}
+
+
+class Context:
+    """What a rung's runs produced: output directory and effective input per run id."""
+
+    def __init__(self, rung, run_dirs, inputs):
+        self.rung, self.run_dirs, self.inputs = rung, run_dirs, inputs
+        self._solutions = {}
+
+    def run_dir(self, run_id):
+        if run_id not in self.run_dirs:
+            raise HarnessError(f"rung '{self.rung.name}': no run '{run_id}' in this tier")
+        return self.run_dirs[run_id]
+
+    def solution(self, run_id):
+        if run_id not in self._solutions:
+            self._solutions[run_id] = read_solution(self.run_dir(run_id) / "solution.cgns")
+        return self._solutions[run_id]
+
+    def input_value(self, run_id, dotted):
+        node = self.inputs[run_id]
+        index = None
+        if dotted.endswith("]"):
+            dotted, index = dotted[:-1].split("[")
+        for part in dotted.split("."):
+            if not isinstance(node, dict) or part not in node:
+                raise HarnessError(f"rung '{self.rung.name}': run '{run_id}' input has no key '{dotted}'")
+            node = node[part]
+        return node[int(index)] if index is not None else node
+
+    def family_runs(self, name):
+        runs = [r for r in self.rung.runs if r.family == name and r.id in self.run_dirs]
+        if len(runs) < 2:
+            raise HarnessError(f"rung '{self.rung.name}': family '{name}' has {len(runs)} run(s) in this tier")
+        return runs
+
+    def resolve(self, run_id, value):
+        """'input:<dotted.key>' strings are looked up in the run's input."""
+        if isinstance(value, str) and value.startswith("input:"):
+            return self.input_value(run_id, value[len("input:"):])
+        return value
+
+
+def _need(spec, key, what):
+    if key not in spec:
+        raise HarnessError(f"extractor '{spec.get('kind')}' needs '{key}' ({what})")
+    return spec[key]
+
+
+def surface(ctx, spec, run_id):
+    group = _need(spec, "group", "the wall group")
+    path = ctx.run_dir(run_id) / f"surface_{group}.csv"
+    if not path.exists():
+        raise HarnessError(f"run '{run_id}' wrote no {path.name}")
+    t = read_csv(path)
+    xn, yn = spec.get("x", "x"), _need(spec, "y", "the column to compare")
+    for n in (xn, yn):
+        if n not in t:
+            raise HarnessError(f"{path.name} has no column '{n}'")
+    x, y = t[xn], t[yn]
+    lo, hi = spec.get("x_min", -np.inf), spec.get("x_max", np.inf)
+    keep = (x > lo) & (x < hi)
+    return Curve(x[keep], y[keep], f"{yn}({xn})")
+
+
+def run_json(ctx, spec, run_id):
+    with open(ctx.run_dir(run_id) / "run.json") as f:
+        data = json.load(f)
+    field = _need(spec, "field", "a run.json field")
+    if field not in data:
+        raise HarnessError(f"run.json of '{run_id}' has no field '{field}'")
+    return float(data[field])
+
+
+def history_last(ctx, spec, run_id):
+    t = read_csv(ctx.run_dir(run_id) / "history.csv")
+    col = _need(spec, "column", "a history.csv column")
+    if col not in t:
+        raise HarnessError(f"history.csv of '{run_id}' has no column '{col}' (columns: {', '.join(t)})")
+    if t[col].size == 0:
+        raise HarnessError(f"history.csv of '{run_id}' has no rows")
+    return float(t[col][-1])
+
+
+def field_error(ctx, spec, run_id):
+    name = _need(spec, "exact", "an exact solution: " + ", ".join(exact.SOLUTIONS))
+    if name not in exact.SOLUTIONS:
+        raise HarnessError(f"unknown exact solution {name!r}; valid: {', '.join(exact.SOLUTIONS)}")
+    params = {k: float(ctx.resolve(run_id, v)) for k, v in spec.get("params", {}).items()}
+    var = spec.get("variable", "u")
+    norm = spec.get("norm", "l2")
+    num, den, worst = 0.0, 0.0, 0.0
+    for z in ctx.solution(run_id):
+        c = z.centres
+        ex = exact.SOLUTIONS[name](c[..., 0], c[..., 1], c[..., 2], **params)
+        d = z.fields[var] - ex[var]
+        if spec.get("remove_mean", False):
+            d = d - np.sum(d * z.volumes) / np.sum(z.volumes)
+        num += float(np.sum(d * d * z.volumes))
+        den += float(np.sum(z.volumes))
+        worst = max(worst, float(np.max(np.abs(d))))
+    if norm == "l2":
+        return math.sqrt(num / den)
+    if norm == "max":
+        return worst
+    raise HarnessError(f"field_error: norm must be l2 or max, got {norm!r}")
+
+
+def _column_at(zone, x0):
+    """Wall-normal column (j) of the single 2-D zone interpolated to x = x0."""
+    xc = zone.centres[0, 0, :, 0]
+    i = int(np.searchsorted(xc, x0)) - 1
+    if i < 0 or i + 1 >= xc.size:
+        raise HarnessError(f"x = {x0} lies outside the cell centres [{xc[0]}, {xc[-1]}]")
+    w = (x0 - xc[i]) / (xc[i + 1] - xc[i])
+    y = (1 - w) * zone.centres[0, :, i, 1] + w * zone.centres[0, :, i + 1, 1]
+    u = (1 - w) * zone.fields["u"][0, :, i] + w * zone.fields["u"][0, :, i + 1]
+    ynode = zone.x[0, :, i + 1, 1]  # tensor-product plate grid: node heights shared by the columns
+    return y, u, ynode
+
+
+def boundary_layer(ctx, spec, run_id):
+    """u/U_e against eta = y sqrt(Re/x) at x (a Curve), or the displacement thickness
+    delta* = int (1 - u/U_e) dy up to eta_edge, with U_e = u at eta_edge."""
+    zones = ctx.solution(run_id)
+    if len(zones) != 1:
+        raise HarnessError("boundary_layer extraction expects a single-block plate grid")
+    x0 = float(_need(spec, "x", "the streamwise station"))
+    re = float(ctx.resolve(run_id, spec.get("reynolds", "input:flow.reynolds")))
+    eta_edge = float(spec.get("eta_edge", 15.0))
+    y, u, ynode = _column_at(zones[0], x0)
+    eta = y * math.sqrt(re / x0)
+    je = int(np.searchsorted(eta, eta_edge))
+    if je >= eta.size:
+        raise HarnessError(f"the grid ends below eta = {eta_edge} at x = {x0}")
+    ue = u[je - 1] + (u[je] - u[je - 1]) * (eta_edge - eta[je - 1]) / (eta[je] - eta[je - 1])
+    if spec.get("quantity", "profile") == "profile":
+        keep = eta <= float(spec.get("eta_max", 8.0))
+        return Curve(eta[keep], u[keep] / ue, "u/U_e(eta)")
+    if spec["quantity"] == "displacement_thickness":
+        dy = np.diff(ynode)[:je]
+        return float(np.sum((1.0 - u[:je] / ue) * dy))
+    raise HarnessError("boundary_layer: quantity must be 'profile' or 'displacement_thickness'")
+
+
+def duct(ctx, spec, run_id):
+    """Fully developed duct flow periodic in x: u_max/u_bulk, or f Re with the Darcy
+    friction factor f = G D_h / (u_b^2 / 2) from the driving body force G."""
+    zones = ctx.solution(run_id)
+    area, flux, umax = 0.0, 0.0, 0.0
+    for z in zones:
+        if z.x.shape[2] < 2:
+            continue
+        # Cross-section areas from the cell volumes divided by the streamwise length.
+        dx = z.x[1:, 1:, 1:, 0] - z.x[1:, 1:, :-1, 0]
+        a = z.volumes / np.abs(dx)
+        area += float(np.sum(a[..., 0]))
+        flux += float(np.sum(a[..., 0] * z.fields["u"][..., 0]))
+        umax = max(umax, float(np.max(z.fields["u"])))
+    ub = flux / area
+    q = spec.get("quantity", "umax_over_ubulk")
+    if q == "umax_over_ubulk":
+        return umax / ub
+    if q == "f_re":
+        g = float(ctx.resolve(run_id, spec.get("body_force", "input:flow.body_force[0]")))
+        re = float(ctx.resolve(run_id, spec.get("reynolds", "input:flow.reynolds")))
+        dh = float(_need(spec, "hydraulic_diameter", "D_h in reference lengths"))
+        return 2.0 * g * dh * dh * re / ub
+    raise HarnessError("duct: quantity must be umax_over_ubulk or f_re")
+
+
+def history_difference(ctx, spec, run_id):
+    """Largest relative difference between two runs' history rows (wall time excluded),
+    over the iterations both have: 0 when a restarted run repeats an uninterrupted one."""
+    a = read_csv(ctx.run_dir(_need(spec, "run_a", "the uninterrupted run")) / "history.csv")
+    b = read_csv(ctx.run_dir(_need(spec, "run_b", "the restarted run")) / "history.csv")
+    ia, ib = a["iteration"], b["iteration"]
+    common = np.intersect1d(ia, ib)
+    first = float(spec.get("from_iteration", 1))
+    common = common[common >= first]
+    if common.size == 0:
+        raise HarnessError("history_difference: the runs share no iterations")
+    worst = 0.0
+    for name in a:
+        if name in ("wall_s", "iteration") or name not in b:
+            continue
+        va = a[name][np.isin(ia, common)]
+        vb = b[name][np.isin(ib, common)]
+        scale = np.maximum(np.abs(va), 1e-300)
+        worst = max(worst, float(np.max(np.abs(va - vb) / scale)))
+    return worst
+
+
+KINDS = {"surface": surface, "run_json": run_json, "history_last": history_last, "field_error": field_error, "boundary_layer": boundary_layer,
+         "duct": duct, "history_difference": history_difference}
+
+
+def extract(ctx, spec):
+    kind = spec.get("kind")
+    if kind not in KINDS:
+        raise HarnessError(f"unknown extractor kind {kind!r}; valid: {', '.join(KINDS)}")
+    if "family" in spec:
+        runs = ctx.family_runs(spec["family"])
+        return Family([r.h for r in runs], [KINDS[kind](ctx, spec, r.id) for r in runs], spec["family"])
+    return KINDS[kind](ctx, spec, spec.get("run", ""))

@@ -1,0 +1,50 @@
+"""Reference values and curves, always read from files under reference_data/."""
+import math
+
+from .compare import Curve
+from .errors import HarnessError
+from .reference import ReferenceFile
+
+
+def _blasius_eta_minus_f(ref):
+    eta, f = ref.column("eta"), ref.column("f")
+    return float(eta[-1] - f[-1])  # f ~ eta - delta1 coefficient far outside the layer
+
+
+DERIVED = {
+    # Cf(x) = 2 f''(0) / sqrt(Re x)
+    "blasius_cf": lambda ref, p: (lambda x, c=2.0 * float(ref.column("fpp")[0]), re=p["reynolds"]:
+                                  c / math.sqrt(re * x)),
+    # delta*(x) = lim(eta - f) x / sqrt(Re x)
+    "blasius_delta_star": lambda ref, p: _blasius_eta_minus_f(ref) * p["x"] / math.sqrt(p["reynolds"] * p["x"]),
+    # u/U_e = f'(eta)
+    "blasius_profile": lambda ref, p: Curve(ref.column("eta"), ref.column("fp"), "Blasius f'(eta)"),
+}
+
+
+def resolve_reference(ctx, spec, root, run_id_for_inputs=None):
+    """Returns (value, description). Missing files, columns or header lines are errors."""
+    if not spec:
+        return None, ""
+    if "file" not in spec:
+        raise HarnessError("a reference needs 'file' (a path under reference_data/)")
+    ref = ReferenceFile(root, spec["file"])
+    desc = f"{spec['file']} — {ref.citation()}"
+    if "derive" in spec:
+        name = spec["derive"]
+        if name not in DERIVED:
+            raise HarnessError(f"unknown derived reference {name!r}; valid: {', '.join(DERIVED)}")
+        params = {k: float(ctx.resolve(run_id_for_inputs, v)) if ctx else float(v)
+                  for k, v in spec.get("params", {}).items()}
+        return DERIVED[name](ref, params), desc
+    if "header" in spec:
+        return ref.header_value(spec["header"]), desc
+    if "x" in spec and "y" in spec:
+        return Curve(ref.column(spec["x"]), ref.column(spec["y"]), spec["y"]), desc
+    if "column" in spec:
+        col = ref.column(spec["column"])
+        row = int(spec.get("row", 0))
+        if not -col.size <= row < col.size:
+            raise HarnessError(f"reference '{spec['file']}': row {row} out of range ({col.size} rows)")
+        return float(col[row]), desc
+    raise HarnessError(f"reference '{spec['file']}': say what to take (column, header, x/y or derive)")

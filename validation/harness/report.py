@@ -1,0 +1,236 @@
+"""Static HTML report from results.json files: summary, one page per rung with plots
+next to the reference data, and a performance page with history. Self-contained: no
+network resources; every page marks <body data-images="ok|broken:N"> once loaded so a
+headless browser can tell whether all images rendered."""
+import html
+import json
+import shutil
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .extract import read_csv  # noqa: E402
+
+CSS = """
+body{font-family:system-ui,sans-serif;margin:2em;color:#222;max-width:1200px}
+table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:4px 8px;font-size:14px}
+th{background:#f3f3f3}.PASS,.passed{color:#07702a;font-weight:bold}.FAIL,.failed,.crashed,.timeout{color:#b00020;font-weight:bold}
+.num{font-family:ui-monospace,monospace;text-align:right}img{max-width:560px;border:1px solid #ddd;margin:4px}
+.why{color:#555;font-size:13px}nav a{margin-right:1em}
+"""
+IMAGE_CHECK = """<script>
+window.addEventListener('load', function () {
+  var bad = 0, imgs = document.images;
+  for (var i = 0; i < imgs.length; ++i) if (!imgs[i].complete || imgs[i].naturalWidth === 0) bad++;
+  document.body.setAttribute('data-images', bad ? 'broken:' + bad : 'ok');
+});
+</script>"""
+
+
+def _page(title, body, depth=0):
+    up = "../" * depth
+    nav = f'<nav><a href="{up}index.html">Summary</a><a href="{up}perf.html">Performance</a></nav>'
+    return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
+            f"<style>{CSS}</style></head><body data-images='pending'>{nav}<h1>{html.escape(title)}</h1>{body}"
+            f"{IMAGE_CHECK}</body></html>")
+
+
+def _fmt(v):
+    if v is None:
+        return "—"
+    if isinstance(v, float):
+        return f"{v:.6g}"
+    return html.escape(str(v))
+
+
+def _plot_check(check, path):
+    p = check.get("plot")
+    if not p:
+        return False
+    if p["kind"] == "curve":
+        fig, (a1, a2) = plt.subplots(2, 1, figsize=(6.4, 5.6), sharex=True, gridspec_kw={"height_ratios": [2, 1]})
+        x = np.array(p["x"])
+        a1.plot(x, p["ref"], "k-", lw=1.5, label="reference")
+        a1.plot(x, p["y"], "o", ms=3, color="tab:blue", label="Narwhal")
+        a1.legend()
+        a1.set_title(check["name"])
+        a2.plot(x, 100 * np.array(p["err"]) if p["relative"] else p["err"], "-", color="tab:red")
+        a2.axhline(0, color="k", lw=0.5)
+        tol = check["tolerance"] * (100 if p["relative"] else 1)
+        if check["comparator"] == "profile_max":
+            a2.axhspan(-tol, tol, color="tab:green", alpha=0.12, label="tolerance")
+            a2.legend()
+        a2.set_ylabel("error [%]" if p["relative"] else "error")
+    else:
+        fig, ax = plt.subplots(figsize=(6.4, 4.4))
+        h, v = np.array(p["h"]), np.abs(np.array(p["values"]))
+        ax.loglog(h, v, "o-", label="Narwhal")
+        if p.get("theory"):
+            ax.loglog(h, v[-1] * (h / h[-1]) ** p["theory"], "k--", lw=1, label=f"order {p['theory']:g}")
+        for i, o in enumerate(p.get("orders", [])):
+            ax.annotate(f"{o:.2f}", (np.sqrt(h[i] * h[i + 1]), np.sqrt(v[i] * v[i + 1])), fontsize=8)
+        if p.get("extrapolated") is not None:
+            ax.set_title(f"{check['name']} (extrapolated {p['extrapolated']:.6g})")
+        else:
+            ax.set_title(check["name"])
+        ax.set_xlabel("grid spacing h")
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return True
+
+
+def _plot_residuals(rung_dir, res, path):
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    any_line = False
+    for r in res.get("runs", []):
+        h = rung_dir / "runs" / r["id"] / "history.csv"
+        if not h.exists():
+            continue
+        t = read_csv(h)
+        if t["iteration"].size == 0:
+            continue
+        tot = np.sqrt(sum(t[c] ** 2 for c in ("res_p", "res_u", "res_v", "res_w")))
+        ax.semilogy(t["iteration"], tot / tot[0], label=r["id"])
+        any_line = True
+    if not any_line:
+        plt.close(fig)
+        return False
+    ax.set_xlabel("Newton iteration")
+    ax.set_ylabel("|R| / |R_0|")
+    ax.set_title("residual history")
+    if len(res.get("runs", [])) <= 8:
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return True
+
+
+def _rung_page(rung_dir, res):
+    rows = "".join(
+        f"<tr><td>{html.escape(r['id'])}</td><td class='{html.escape(str(r.get('status')))}'>{_fmt(r.get('status'))}</td>"
+        f"<td class=num>{_fmt(r.get('iterations'))}</td><td class=num>{_fmt(r.get('wall_seconds'))}</td>"
+        f"<td class=num>{_fmt(r.get('cells'))}</td><td class=num>{_fmt(r.get('residual_drop'))}</td>"
+        f"<td><a href='{html.escape(r['log'])}'>log</a></td></tr>" for r in res.get("runs", []))
+    body = (f"<p>Status: <span class='{res['status']}'>{res['status'].upper()}</span> — tier {res.get('tier')}, "
+            f"{_fmt(res.get('wall_seconds'))} s</p>")
+    if res.get("message"):
+        body += f"<p>{html.escape(res['message'])}</p>"
+    body += ("<h2>Runs</h2><table><tr><th>run</th><th>status</th><th>iterations</th><th>wall s</th><th>cells</th>"
+             f"<th>residual drop</th><th>log</th></tr>{rows}</table>")
+    if _plot_residuals(rung_dir, res, rung_dir / "residuals.png"):
+        body += "<img src='residuals.png' alt='residual history'>"
+    body += "<h2>Checks</h2>"
+    for i, c in enumerate(res.get("checks", [])):
+        verdict = "PASS" if c.get("passed") else "FAIL"
+        body += (f"<h3>{html.escape(c['name'])} <span class='{verdict}'>{verdict}</span></h3>"
+                 "<table><tr><th>comparator</th><th>computed</th><th>reference</th><th>delta</th><th>tolerance</th></tr>"
+                 f"<tr><td>{c['comparator']}</td><td class=num>{_fmt(c.get('computed'))}</td>"
+                 f"<td class=num>{_fmt(c.get('reference'))}</td><td class=num>{_fmt(c.get('delta'))}</td>"
+                 f"<td class=num>{_fmt(c['tolerance'])}</td></tr></table>"
+                 f"<p class=why>Why this tolerance: {html.escape(c['rationale'])}</p>")
+        if c.get("orders"):
+            body += "<p class=why>Observed orders (coarse to fine): " + ", ".join(f"{o:.3f}" for o in c["orders"]) + "</p>"
+        if c.get("extrapolated") is not None:
+            body += f"<p class=why>Observed order {c['observed_order']:.3f}; Richardson-extrapolated value {c['extrapolated']:.6g}</p>"
+        if c.get("reference_source"):
+            body += f"<p class=why>Reference: {html.escape(c['reference_source'])}</p>"
+        if c.get("error"):
+            body += f"<pre>{html.escape(c['error'])}</pre>"
+        if _plot_check(c, rung_dir / f"check_{i}.png"):
+            body += f"<img src='check_{i}.png' alt='{html.escape(c['name'])}'>"
+    prov = res.get("provenance", {})
+    body += "<h2>Provenance</h2><table>" + "".join(
+        f"<tr><th>{html.escape(k)}</th><td>{_fmt(v)}</td></tr>" for k, v in prov.items()) + "</table>"
+    (rung_dir / "index.html").write_text(_page(f"{res['rung']}: {res.get('title', '')}", body, depth=1))
+
+
+def _perf_history(reports, tier):
+    """(run-id, rung, wall seconds) from every earlier report of the same tier."""
+    out = []
+    for d in sorted(Path(reports).iterdir()):
+        if not d.is_dir() or d.name == "latest":
+            continue
+        for rj in d.glob("*/results.json"):
+            try:
+                r = json.loads(rj.read_text())
+            except (OSError, json.JSONDecodeError):
+                continue
+            if r.get("tier") == tier and r.get("status") == "passed":
+                out.append((d.name, r["rung"], r.get("wall_seconds", 0.0)))
+    return out
+
+
+def _perf_page(out, reports, results):
+    tier = results[0].get("tier") if results else None
+    rows = ""
+    for r in results:
+        runs = r.get("runs", [])
+        work = sum((x.get("cells") or 0) * (x.get("iterations") or 0) for x in runs)
+        solver_s = sum(x.get("wall_seconds") or 0 for x in runs)
+        rate = work / solver_s if solver_s > 0 else None
+        rows += (f"<tr><td><a href='{r['rung']}/index.html'>{html.escape(r['rung'])}</a></td>"
+                 f"<td class=num>{_fmt(r.get('wall_seconds'))}</td><td class=num>{_fmt(solver_s)}</td>"
+                 f"<td class=num>{_fmt(r.get('cells'))}</td><td class=num>{_fmt(r.get('iterations'))}</td>"
+                 f"<td class=num>{_fmt(rate)}</td></tr>")
+    body = ("<table><tr><th>rung</th><th>rung wall s</th><th>solver wall s</th><th>cells (all runs)</th>"
+            f"<th>iterations (all runs)</th><th>cell-iterations / s</th></tr>{rows}</table>")
+    hist = _perf_history(reports, tier) if tier else []
+    if hist:
+        fig, ax = plt.subplots(figsize=(7.5, 4.2))
+        ids = sorted({h[0] for h in hist})
+        for rung in sorted({h[1] for h in hist}):
+            pts = [(ids.index(h[0]), h[2]) for h in hist if h[1] == rung]
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=rung)
+        ax.set_xticks(range(len(ids)))
+        ax.set_xticklabels(ids, rotation=30, ha="right", fontsize=7)
+        ax.set_ylabel("rung wall time [s]")
+        ax.set_title(f"wall time per rung, tier {tier} (reports in {Path(reports).name}/)")
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(out / "perf_history.png", dpi=90)
+        plt.close(fig)
+        body += "<h2>History</h2><img src='perf_history.png' alt='performance history'>"
+    body += ("<p class=why>Wall times on a shared 2-core machine are noisy; compare ratios and medians, "
+             "never a single run.</p>")
+    (out / "perf.html").write_text(_page("Performance", body))
+
+
+def build_report(out, reports):
+    out, reports = Path(out), Path(reports)
+    results = []
+    for rj in sorted(out.glob("*/results.json")):
+        results.append(json.loads(rj.read_text()))
+    rows = ""
+    for r in results:
+        _rung_page(out / r["rung"], r)
+        link = f"<a href='{r['rung']}/index.html'>{html.escape(r['rung'])}</a>"
+        checks = r.get("checks") or [None]
+        for i, c in enumerate(checks):
+            first = f"<td rowspan={len(checks)}>{link}<br><span class='{r['status']}'>{r['status']}</span></td>" if i == 0 else ""
+            t = f"<td rowspan={len(checks)} class=num>{_fmt(r.get('wall_seconds'))}</td>" if i == 0 else ""
+            if c is None:
+                rows += f"<tr>{first}<td colspan=6>{html.escape(r.get('message', 'no checks ran'))}</td>{t}</tr>"
+                continue
+            v = "PASS" if c.get("passed") else "FAIL"
+            rows += (f"<tr>{first}<td>{html.escape(c['name'])}</td><td class=num>{_fmt(c.get('computed'))}</td>"
+                     f"<td class=num>{_fmt(c.get('reference'))}</td><td class=num>{_fmt(c.get('delta'))}</td>"
+                     f"<td class=num>{_fmt(c['tolerance'])}</td><td class={v}>{v}</td>{t}</tr>")
+    passed = sum(r["status"] == "passed" for r in results)
+    sha = next((r.get("provenance", {}).get("git_sha") for r in results if r.get("provenance")), "unknown")
+    body = (f"<p>{passed} of {len(results)} rungs passed — run {html.escape(out.name)}, git {html.escape(str(sha))}</p>"
+            "<table><tr><th>rung</th><th>check</th><th>computed</th><th>reference</th><th>delta</th><th>tolerance</th>"
+            f"<th>result</th><th>time s</th></tr>{rows}</table>")
+    (out / "index.html").write_text(_page("Narwhal validation report", body))
+    _perf_page(out, reports, results)
+    latest = reports / "latest"
+    if latest.exists():
+        shutil.rmtree(latest)
+    shutil.copytree(out, latest, ignore=shutil.ignore_patterns("*.h5", "*.cgns"))
+    return out / "index.html"

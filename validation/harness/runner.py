@@ -1,0 +1,129 @@
+"""Runs one rung: its solver runs (with time-out), then its checks; writes results.json."""
+import json
+import platform
+import subprocess
+import time
+import tomllib
+import traceback
+from pathlib import Path
+
+from .compare import compare
+from .errors import HarnessError
+from .extract import Context, extract
+from .references import resolve_reference
+
+EXIT_MEANING = {0: "converged", 1: "max_iterations", 2: "input error", 3: "diverged"}
+
+
+def git_sha(root):
+    try:
+        return subprocess.run(["git", "rev-parse", "--short=12", "HEAD"], cwd=root, capture_output=True, text=True,
+                              check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def effective_input(run):
+    with open(run.input, "rb") as f:
+        data = tomllib.load(f)
+    for key, literal in run.set.items():
+        node = data
+        parts = key.split(".")
+        for p in parts[:-1]:
+            node = node.setdefault(p, {})
+        node[parts[-1]] = tomllib.loads("v = " + literal)["v"]
+    return data
+
+
+def _ordered(runs):
+    done, out = set(), []
+    pending = list(runs)
+    while pending:
+        for r in pending:
+            if not r.restart_from or r.restart_from in done:
+                out.append(r)
+                done.add(r.id)
+                pending.remove(r)
+                break
+        else:
+            raise HarnessError("restart_from references form a cycle or name a run outside the tier")
+    return out
+
+
+def run_rung(rung, tier, narwhal, out_dir, root):
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    started = time.monotonic()
+    result = {"rung": rung.name, "title": rung.title, "tier": tier, "status": "passed", "checks": [], "runs": [],
+              "provenance": {"git_sha": git_sha(root), "machine": platform.node(), "platform": platform.platform(),
+                             "python": platform.python_version()}}
+    runs = _ordered([r for r in rung.runs if tier in r.tiers])
+    run_dirs, inputs = {}, {}
+    for r in runs:
+        rd = out_dir / "runs" / r.id
+        rd.mkdir(parents=True, exist_ok=True)
+        cmd = [str(narwhal), "run", str(r.input), "--out", str(rd)]
+        for k, v in r.set.items():
+            cmd += ["--set", f"{k}={v}"]
+        if r.max_iterations:
+            cmd += ["--max-iterations", str(r.max_iterations)]
+        if r.restart_from:
+            src = out_dir / "runs" / r.restart_from / "restart.h5"
+            cmd += ["--restart", str(src)]
+        remaining = rung.timeout_s - (time.monotonic() - started)
+        info = {"id": r.id, "command": " ".join(cmd), "log": f"runs/{r.id}/narwhal.log"}
+        try:
+            with open(rd / "narwhal.log", "w") as log:
+                proc = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, timeout=max(remaining, 1.0))
+            info["exit_code"] = proc.returncode
+            info["status"] = EXIT_MEANING.get(proc.returncode, f"crashed (exit {proc.returncode})")
+        except subprocess.TimeoutExpired:
+            info["status"] = "timeout"
+            result["status"] = "timeout"
+        rj = rd / "run.json"
+        if rj.exists():
+            with open(rj) as f:
+                data = json.load(f)
+            for k in ("iterations", "wall_seconds", "cells", "residual_drop", "status", "message"):
+                info[k] = data.get(k)
+            result["provenance"].update({k: data["provenance"][k] for k in ("compiler", "flags", "version")})
+        result["runs"].append(info)
+        if info["status"] in ("input error", "diverged") or info["status"].startswith("crashed"):
+            result["status"] = "crashed"
+        if result["status"] in ("crashed", "timeout"):
+            break
+        run_dirs[r.id] = rd
+        inputs[r.id] = effective_input(r)
+
+    if result["status"] == "passed":
+        ctx = Context(rung, run_dirs, inputs)
+        for c in rung.checks:
+            if tier not in c.tiers:
+                continue
+            entry = {"name": c.name, "comparator": c.comparator, "tolerance": c.tolerance, "rationale": c.rationale,
+                     "reference_source": ""}
+            try:
+                computed = extract(ctx, c.extract)
+                ref_run = c.extract.get("run") or next((r.id for r in runs if r.family == c.extract.get("family")), None)
+                reference, desc = resolve_reference(ctx, c.reference, root / "reference_data", ref_run)
+                entry["reference_source"] = desc
+                if c.comparator != "restart_equal" and reference is None and c.comparator != "gci":
+                    raise HarnessError(f"check '{c.name}' has no reference")
+                entry.update(compare(c.comparator, computed, reference, c.tolerance, c.options))
+            except HarnessError as e:
+                entry.update(computed=None, reference=None, delta=None, passed=False, error=str(e), plot=None)
+            except Exception as e:  # a harness bug must show as a failed check, with its trace
+                entry.update(computed=None, reference=None, delta=None, passed=False, plot=None,
+                             error=f"internal error: {e}\n{traceback.format_exc()}")
+            result["checks"].append(entry)
+        if not result["checks"]:
+            result["status"] = "failed"
+            result["message"] = f"no check of rung '{rung.name}' belongs to tier '{tier}'"
+        elif not all(ch["passed"] for ch in result["checks"]):
+            result["status"] = "failed"
+    result["wall_seconds"] = time.monotonic() - started
+    result["cells"] = sum(r.get("cells") or 0 for r in result["runs"])
+    result["iterations"] = sum(r.get("iterations") or 0 for r in result["runs"])
+    with open(out_dir / "results.json", "w") as f:
+        json.dump(result, f, indent=1)
+    return result
