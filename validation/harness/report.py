@@ -13,6 +13,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from . import browser  # noqa: E402
 from .extract import read_csv  # noqa: E402
 
 CSS = """
@@ -202,6 +203,18 @@ def _perf_page(out, reports, results):
     (out / "perf.html").write_text(_page("Performance", body))
 
 
+def _screenshots(out, results):
+    """Pictures of the summary and the flat-plate page kept with the report (when chromium exists)."""
+    if not browser.chromium():
+        return
+    shots = out / "screenshots"
+    shots.mkdir(exist_ok=True)
+    browser.screenshot(out / "index.html", shots / "summary.png", 1280, 1000)
+    for r in results:
+        if r["rung"].startswith("flat_plate"):
+            browser.screenshot(out / r["rung"] / "index.html", shots / f"{r['rung']}.png", 1280, 3000)
+
+
 def build_report(out, reports):
     out, reports = Path(out), Path(reports)
     results = []
@@ -229,6 +242,7 @@ def build_report(out, reports):
             f"<th>result</th><th>time s</th></tr>{rows}</table>")
     (out / "index.html").write_text(_page("Narwhal validation report", body))
     _perf_page(out, reports, results)
+    _screenshots(out, results)
     latest = reports / "latest"
     if latest.exists():
         shutil.rmtree(latest)

@@ -1,0 +1,111 @@
+"""Malformed rung files give errors that name the file and the key."""
+import tempfile
+import textwrap
+import unittest
+from pathlib import Path
+
+import support  # noqa: F401
+
+from harness.casefile import load_rung
+from harness.errors import HarnessError
+from harness.reference import ReferenceFile
+
+GOOD = """
+[rung]
+title = "t"
+tiers = ["quick"]
+
+[[run]]
+id = "a"
+input = "in.toml"
+
+[[check]]
+name = "c"
+extract = { kind = "run_json", run = "a", field = "iterations" }
+reference = { file = "x.csv", column = "v" }
+comparator = "abs"
+tolerance = 1.0
+rationale = "because"
+"""
+
+
+class RungFiles(unittest.TestCase):
+    def write(self, text):
+        d = Path(tempfile.mkdtemp()) / "myrung"
+        d.mkdir()
+        (d / "in.toml").write_text("")
+        (d / "case.toml").write_text(textwrap.dedent(text))
+        return d / "case.toml"
+
+    def error(self, text):
+        path = self.write(text)
+        with self.assertRaises(HarnessError) as cm:
+            load_rung(path)
+        msg = str(cm.exception)
+        self.assertIn(str(path), msg)
+        return msg
+
+    def test_good_file_loads(self):
+        rung = load_rung(self.write(GOOD))
+        self.assertEqual(rung.name, "myrung")
+        self.assertEqual(rung.checks[0].tiers, ("quick",))
+
+    def test_misspelled_key_is_named_with_a_suggestion(self):
+        msg = self.error(GOOD.replace("tolerance = 1.0", "tolerence = 1.0\ntolerance = 1.0"))
+        self.assertIn("unknown key 'check[0].tolerence'", msg)
+        self.assertIn("did you mean 'check[0].tolerance'", msg)
+
+    def test_missing_rationale(self):
+        msg = self.error(GOOD.replace('rationale = "because"', ""))
+        self.assertIn("check[0].rationale", msg)
+        self.assertIn("missing required key", msg)
+
+    def test_wrong_type(self):
+        msg = self.error(GOOD.replace("tolerance = 1.0", 'tolerance = "tight"'))
+        self.assertIn("check[0].tolerance", msg)
+        self.assertIn("expected a numeric tolerance", msg)
+
+    def test_unknown_comparator_lists_the_valid_ones(self):
+        msg = self.error(GOOD.replace('comparator = "abs"', 'comparator = "close"'))
+        self.assertIn("unknown comparator 'close'", msg)
+        self.assertIn("profile_rms", msg)
+
+    def test_unknown_tier(self):
+        msg = self.error(GOOD.replace('tiers = ["quick"]', 'tiers = ["weekly"]'))
+        self.assertIn("rung.tiers", msg)
+
+    def test_missing_solver_input(self):
+        msg = self.error(GOOD.replace('input = "in.toml"', 'input = "nope.toml"'))
+        self.assertIn("run[0].input", msg)
+        self.assertIn("does not exist", msg)
+
+    def test_syntax_error(self):
+        msg = self.error("[rung\n")
+        self.assertIn("TOML syntax error", msg)
+
+
+class ReferenceFiles(unittest.TestCase):
+    def setUp(self):
+        self.root = Path(tempfile.mkdtemp())
+        (self.root / "r.csv").write_text("# Source: test\n# units: none\na,b\n1,2\n3,4\n")
+        (self.root / "noheader.csv").write_text("a,b\n1,2\n")
+
+    def test_columns_and_header(self):
+        ref = ReferenceFile(self.root, "r.csv")
+        self.assertEqual(list(ref.column("b")), [2.0, 4.0])
+        with self.assertRaises(HarnessError) as cm:
+            ref.column("c")
+        self.assertIn("no column 'c'", str(cm.exception))
+        with self.assertRaises(HarnessError):
+            ref.header_value(r"missing = ([0-9.]+)")
+
+    def test_missing_file_and_missing_provenance(self):
+        with self.assertRaises(HarnessError):
+            ReferenceFile(self.root, "absent.csv")
+        with self.assertRaises(HarnessError) as cm:
+            ReferenceFile(self.root, "noheader.csv")
+        self.assertIn("provenance", str(cm.exception))
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,115 @@
+"""Each comparator on hand-made data, on both sides of its tolerance; GCI on exact data."""
+import math
+import unittest
+
+import support  # noqa: F401
+import numpy as np
+
+from harness.compare import Curve, Family, compare, gci, observed_orders
+from harness.errors import HarnessError
+
+
+class Scalars(unittest.TestCase):
+    def test_abs(self):
+        self.assertTrue(compare("abs", 1.05, 1.0, 0.06, {})["passed"])
+        r = compare("abs", 1.05, 1.0, 0.04, {})
+        self.assertFalse(r["passed"])
+        self.assertAlmostEqual(r["delta"], 0.05)
+
+    def test_rel(self):
+        self.assertTrue(compare("rel", 2.02, 2.0, 0.011, {})["passed"])
+        r = compare("rel", 2.02, 2.0, 0.009, {})
+        self.assertFalse(r["passed"])
+        self.assertAlmostEqual(r["delta"], 0.01)
+        with self.assertRaises(HarnessError):
+            compare("rel", 1.0, 0.0, 0.1, {})
+
+    def test_scalar_comparator_rejects_a_curve(self):
+        with self.assertRaises(HarnessError):
+            compare("abs", Curve([0, 1], [0, 1]), 1.0, 0.1, {})
+
+    def test_restart_equal(self):
+        self.assertTrue(compare("restart_equal", 0.0, None, 0.0, {})["passed"])
+        self.assertFalse(compare("restart_equal", 1e-9, None, 1e-12, {})["passed"])
+
+
+class Profiles(unittest.TestCase):
+    def setUp(self):
+        self.x = np.linspace(1.0, 2.0, 11)
+        self.ref = Curve(np.linspace(0.0, 3.0, 31), 2.0 * np.linspace(0.0, 3.0, 31))
+
+    def test_max_relative(self):
+        y = 2.0 * self.x
+        y[5] *= 1.03  # one point 3 % off
+        r = compare("profile_max", Curve(self.x, y), self.ref, 0.031, {})
+        self.assertTrue(r["passed"])
+        self.assertAlmostEqual(r["delta"], 0.03)
+        self.assertFalse(compare("profile_max", Curve(self.x, y), self.ref, 0.029, {})["passed"])
+
+    def test_rms_relative(self):
+        y = 2.0 * self.x * 1.01
+        r = compare("profile_rms", Curve(self.x, y), self.ref, 0.0101, {})
+        self.assertTrue(r["passed"])
+        self.assertAlmostEqual(r["delta"], 0.01)
+        self.assertFalse(compare("profile_rms", Curve(self.x, y), self.ref, 0.0099, {})["passed"])
+
+    def test_absolute_mode_and_function_reference(self):
+        y = 2.0 * self.x + 0.002
+        r = compare("profile_max", Curve(self.x, y), lambda x: 2.0 * x, 0.0021, {"relative": False})
+        self.assertTrue(r["passed"])
+        self.assertAlmostEqual(r["delta"], 0.002)
+        self.assertFalse(compare("profile_max", Curve(self.x, y), lambda x: 2.0 * x, 0.0019, {"relative": False})["passed"])
+
+    def test_points_outside_the_reference_are_an_error(self):
+        with self.assertRaises(HarnessError):
+            compare("profile_max", Curve([2.5, 3.5], [5.0, 7.0]), self.ref, 0.1, {})
+
+    def test_empty_range_is_an_error(self):
+        with self.assertRaises(HarnessError):
+            Curve([], [], "cf")
+
+
+class GridFamilies(unittest.TestCase):
+    def test_observed_order_second_order_data(self):
+        h = np.array([0.4, 0.2, 0.1, 0.05])
+        fam = Family(h, 3.0 * h ** 2)
+        self.assertTrue(np.allclose(observed_orders(fam), 2.0))
+        self.assertTrue(compare("observed_order", fam, 2.0, 0.1, {"pairs": 2})["passed"])
+
+    def test_observed_order_fails_for_first_order_data(self):
+        h = np.array([0.4, 0.2, 0.1])
+        r = compare("observed_order", Family(h, 3.0 * h), 2.0, 0.1, {"pairs": 2})
+        self.assertFalse(r["passed"])
+        self.assertAlmostEqual(r["computed"], 1.0)
+
+    def test_family_order_does_not_depend_on_listing_order(self):
+        fam = Family([0.1, 0.4, 0.2], [0.01, 0.16, 0.04])
+        self.assertTrue(np.allclose(observed_orders(fam), 2.0))
+
+    def test_gci_on_exact_second_order_data_constant_ratio(self):
+        # f = 1 + 0.5 h^2 on h = 4, 2, 1: p = 2, extrapolation exact, and by Roache's
+        # definition GCI_fine = 1.25 |(f1 - f2)/f1| / (r^p - 1) = 1.25 * (1.5/1.5) / 3.
+        fam = Family([4.0, 2.0, 1.0], [9.0, 3.0, 1.5])
+        g, p, fext = gci(fam)
+        self.assertAlmostEqual(p, 2.0, places=10)
+        self.assertAlmostEqual(fext, 1.0, places=10)
+        self.assertAlmostEqual(g, 1.25 * (1.5 / 1.5) / 3.0, places=10)
+        self.assertTrue(compare("gci", fam, None, 0.5, {})["passed"])
+        self.assertFalse(compare("gci", fam, None, 0.3, {})["passed"])
+
+    def test_gci_non_constant_ratio_recovers_the_order(self):
+        h = np.array([3.0, 2.0, 1.0])
+        f = 2.0 - 0.1 * h ** 1.5
+        g, p, fext = gci(Family(h, f))
+        self.assertAlmostEqual(p, 1.5, places=8)
+        self.assertAlmostEqual(fext, 2.0, places=8)
+        f1, f2 = f[-1], f[-2]
+        self.assertAlmostEqual(g, 1.25 * abs((f1 - f2) / f1) / (2.0 ** 1.5 - 1.0), places=8)
+
+    def test_gci_needs_three_grids(self):
+        with self.assertRaises(HarnessError):
+            gci(Family([2.0, 1.0], [1.0, 1.1]))
+
+
+if __name__ == "__main__":
+    unittest.main()
