@@ -106,6 +106,15 @@ class GridFamilies(unittest.TestCase):
         f1, f2 = f[-1], f[-2]
         self.assertAlmostEqual(g, 1.25 * abs((f1 - f2) / f1) / (2.0 ** 1.5 - 1.0), places=8)
 
+    def test_gci_reproduces_the_nparc_worked_example_of_roaches_method(self):
+        from support import ROOT
+        from harness.reference import ReferenceFile
+        ref = ReferenceFile(ROOT / "reference_data", "verification/gci_worked_example_nparc.csv")
+        g, p, fext = gci(Family(ref.column("h"), ref.column("value")))
+        self.assertAlmostEqual(p, ref.column("p")[0], places=5)
+        self.assertAlmostEqual(fext, ref.column("f_exact")[0], places=5)
+        self.assertAlmostEqual(g, ref.column("gci_fine")[0], places=6)
+
     def test_gci_needs_three_grids(self):
         with self.assertRaises(HarnessError):
             gci(Family([2.0, 1.0], [1.0, 1.1]))
