@@ -85,7 +85,7 @@ def compare(comparator, computed, reference, tolerance, options):
             if r == 0.0:
                 raise HarnessError("rel comparator with a zero reference")
             delta = c / r - 1.0
-        out.update(computed=c, reference=r, delta=delta, passed=abs(delta) <= tolerance)
+        out.update(computed=c, reference=r, delta=delta, passed=bool(abs(delta) <= tolerance))
     elif comparator in ("profile_rms", "profile_max"):
         if not isinstance(computed, Curve):
             raise HarnessError("profile comparators need an extracted curve")
@@ -95,7 +95,7 @@ def compare(comparator, computed, reference, tolerance, options):
         delta = float(np.sqrt(np.mean(err ** 2))) if comparator == "profile_rms" else float(np.max(np.abs(err)))
         worst = int(np.argmax(np.abs(err)))
         out.update(computed=float(computed.y[worst]), reference=float(ref[worst]), delta=delta,
-                   passed=delta <= tolerance, points=int(computed.x.size),
+                   passed=bool(delta <= tolerance), points=int(computed.x.size),
                    plot={"kind": "curve", "x": computed.x.tolist(), "y": computed.y.tolist(), "ref": ref.tolist(),
                          "err": err.tolist(), "relative": relative})
     elif comparator == "observed_order":
@@ -107,21 +107,22 @@ def compare(comparator, computed, reference, tolerance, options):
             raise HarnessError(f"observed_order over {pairs} pairs needs {pairs + 1} grids, got {len(computed.h)}")
         c = min(orders[-pairs:])
         r = _scalar(reference, "theoretical order")
-        out.update(computed=c, reference=r, delta=c - r, passed=c >= r - tolerance, orders=orders,
+        out.update(computed=float(c), reference=r, delta=float(c - r), passed=bool(c >= r - tolerance),
+                   orders=[float(o) for o in orders],
                    plot={"kind": "family", "h": computed.h.tolist(), "values": computed.values.tolist(),
                          "orders": orders, "theory": r})
     elif comparator == "gci":
         if not isinstance(computed, Family):
             raise HarnessError("gci needs a grid family")
-        g, p, f_ext = gci(computed, float(options.get("safety_factor", 1.25)))
+        g, p, f_ext = (float(v) for v in gci(computed, float(options.get("safety_factor", 1.25))))
         out.update(computed=g, reference=None if reference is None else _scalar(reference, "reference"),
-                   delta=g, passed=g <= tolerance, observed_order=p, extrapolated=f_ext,
+                   delta=g, passed=bool(g <= tolerance), observed_order=p, extrapolated=f_ext,
                    plot={"kind": "family", "h": computed.h.tolist(), "values": computed.values.tolist(),
-                         "orders": observed_orders(computed) if np.all(computed.values != 0) else [],
+                         "orders": [float(o) for o in observed_orders(computed)] if np.all(computed.values != 0) else [],
                          "theory": None, "extrapolated": f_ext})
     elif comparator == "restart_equal":
         c = _scalar(computed, "history difference")
-        out.update(computed=c, reference=0.0, delta=c, passed=c <= tolerance)
+        out.update(computed=c, reference=0.0, delta=c, passed=bool(c <= tolerance))
     else:
         raise HarnessError(f"unknown comparator {comparator!r}")
     return out

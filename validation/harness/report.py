@@ -219,7 +219,11 @@ def build_report(out, reports):
     out, reports = Path(out), Path(reports)
     results = []
     for rj in sorted(out.glob("*/results.json")):
-        results.append(json.loads(rj.read_text()))
+        try:
+            results.append(json.loads(rj.read_text()))
+        except json.JSONDecodeError as e:
+            results.append({"rung": rj.parent.name, "status": "crashed", "checks": [],
+                            "message": f"unreadable results.json: {e}"})
     rows = ""
     for r in results:
         _rung_page(out / r["rung"], r)

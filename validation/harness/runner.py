@@ -124,6 +124,9 @@ def run_rung(rung, tier, narwhal, out_dir, root):
     result["wall_seconds"] = time.monotonic() - started
     result["cells"] = sum(r.get("cells") or 0 for r in result["runs"])
     result["iterations"] = sum(r.get("iterations") or 0 for r in result["runs"])
-    with open(out_dir / "results.json", "w") as f:
+    # Written whole or not at all: a half-written results.json would poison the report.
+    tmp = out_dir / "results.json.tmp"
+    with open(tmp, "w") as f:
         json.dump(result, f, indent=1)
+    tmp.replace(out_dir / "results.json")
     return result
