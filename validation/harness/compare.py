@@ -125,4 +125,5 @@ def compare(comparator, computed, reference, tolerance, options):
         out.update(computed=c, reference=0.0, delta=c, passed=bool(c <= tolerance))
     else:
         raise HarnessError(f"unknown comparator {comparator!r}")
+    out["pass"] = out.pop("passed")
     return out

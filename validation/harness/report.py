@@ -129,7 +129,7 @@ def _rung_page(rung_dir, res):
         body += "<img src='residuals.png' alt='residual history'>"
     body += "<h2>Checks</h2>"
     for i, c in enumerate(res.get("checks", [])):
-        verdict = "PASS" if c.get("passed") else "FAIL"
+        verdict = "PASS" if c.get("pass") else "FAIL"
         body += (f"<h3>{html.escape(c['name'])} <span class='{verdict}'>{verdict}</span></h3>"
                  "<table><tr><th>comparator</th><th>computed</th><th>reference</th><th>delta</th><th>tolerance</th></tr>"
                  f"<tr><td>{c['comparator']}</td><td class=num>{_fmt(c.get('computed'))}</td>"
@@ -235,7 +235,7 @@ def build_report(out, reports):
             if c is None:
                 rows += f"<tr>{first}<td colspan=6>{html.escape(r.get('message', 'no checks ran'))}</td>{t}</tr>"
                 continue
-            v = "PASS" if c.get("passed") else "FAIL"
+            v = "PASS" if c.get("pass") else "FAIL"
             rows += (f"<tr>{first}<td>{html.escape(c['name'])}</td><td class=num>{_fmt(c.get('computed'))}</td>"
                      f"<td class=num>{_fmt(c.get('reference'))}</td><td class=num>{_fmt(c.get('delta'))}</td>"
                      f"<td class=num>{_fmt(c['tolerance'])}</td><td class={v}>{v}</td>{t}</tr>")

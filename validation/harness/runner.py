@@ -111,19 +111,22 @@ def run_rung(rung, tier, narwhal, out_dir, root):
                     raise HarnessError(f"check '{c.name}' has no reference")
                 entry.update(compare(c.comparator, computed, reference, c.tolerance, c.options))
             except HarnessError as e:
-                entry.update(computed=None, reference=None, delta=None, passed=False, error=str(e), plot=None)
+                entry.update({"computed": None, "reference": None, "delta": None, "pass": False, "error": str(e),
+                              "plot": None})
             except Exception as e:  # a harness bug must show as a failed check, with its trace
-                entry.update(computed=None, reference=None, delta=None, passed=False, plot=None,
-                             error=f"internal error: {e}\n{traceback.format_exc()}")
+                entry.update({"computed": None, "reference": None, "delta": None, "pass": False, "plot": None,
+                              "error": f"internal error: {e}\n{traceback.format_exc()}"})
             result["checks"].append(entry)
         if not result["checks"]:
             result["status"] = "failed"
             result["message"] = f"no check of rung '{rung.name}' belongs to tier '{tier}'"
-        elif not all(ch["passed"] for ch in result["checks"]):
+        elif not all(ch["pass"] for ch in result["checks"]):
             result["status"] = "failed"
     result["wall_seconds"] = time.monotonic() - started
     result["cells"] = sum(r.get("cells") or 0 for r in result["runs"])
     result["iterations"] = sum(r.get("iterations") or 0 for r in result["runs"])
+    result["provenance"].update(cells=result["cells"], iterations=result["iterations"],
+                                wall_seconds=result["wall_seconds"])
     # Written whole or not at all: a half-written results.json would poison the report.
     tmp = out_dir / "results.json.tmp"
     with open(tmp, "w") as f:

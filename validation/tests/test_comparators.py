@@ -11,15 +11,15 @@ from harness.errors import HarnessError
 
 class Scalars(unittest.TestCase):
     def test_abs(self):
-        self.assertTrue(compare("abs", 1.05, 1.0, 0.06, {})["passed"])
+        self.assertTrue(compare("abs", 1.05, 1.0, 0.06, {})["pass"])
         r = compare("abs", 1.05, 1.0, 0.04, {})
-        self.assertFalse(r["passed"])
+        self.assertFalse(r["pass"])
         self.assertAlmostEqual(r["delta"], 0.05)
 
     def test_rel(self):
-        self.assertTrue(compare("rel", 2.02, 2.0, 0.011, {})["passed"])
+        self.assertTrue(compare("rel", 2.02, 2.0, 0.011, {})["pass"])
         r = compare("rel", 2.02, 2.0, 0.009, {})
-        self.assertFalse(r["passed"])
+        self.assertFalse(r["pass"])
         self.assertAlmostEqual(r["delta"], 0.01)
         with self.assertRaises(HarnessError):
             compare("rel", 1.0, 0.0, 0.1, {})
@@ -29,8 +29,8 @@ class Scalars(unittest.TestCase):
             compare("abs", Curve([0, 1], [0, 1]), 1.0, 0.1, {})
 
     def test_restart_equal(self):
-        self.assertTrue(compare("restart_equal", 0.0, None, 0.0, {})["passed"])
-        self.assertFalse(compare("restart_equal", 1e-9, None, 1e-12, {})["passed"])
+        self.assertTrue(compare("restart_equal", 0.0, None, 0.0, {})["pass"])
+        self.assertFalse(compare("restart_equal", 1e-9, None, 1e-12, {})["pass"])
 
 
 class Profiles(unittest.TestCase):
@@ -42,23 +42,23 @@ class Profiles(unittest.TestCase):
         y = 2.0 * self.x
         y[5] *= 1.03  # one point 3 % off
         r = compare("profile_max", Curve(self.x, y), self.ref, 0.031, {})
-        self.assertTrue(r["passed"])
+        self.assertTrue(r["pass"])
         self.assertAlmostEqual(r["delta"], 0.03)
-        self.assertFalse(compare("profile_max", Curve(self.x, y), self.ref, 0.029, {})["passed"])
+        self.assertFalse(compare("profile_max", Curve(self.x, y), self.ref, 0.029, {})["pass"])
 
     def test_rms_relative(self):
         y = 2.0 * self.x * 1.01
         r = compare("profile_rms", Curve(self.x, y), self.ref, 0.0101, {})
-        self.assertTrue(r["passed"])
+        self.assertTrue(r["pass"])
         self.assertAlmostEqual(r["delta"], 0.01)
-        self.assertFalse(compare("profile_rms", Curve(self.x, y), self.ref, 0.0099, {})["passed"])
+        self.assertFalse(compare("profile_rms", Curve(self.x, y), self.ref, 0.0099, {})["pass"])
 
     def test_absolute_mode_and_function_reference(self):
         y = 2.0 * self.x + 0.002
         r = compare("profile_max", Curve(self.x, y), lambda x: 2.0 * x, 0.0021, {"relative": False})
-        self.assertTrue(r["passed"])
+        self.assertTrue(r["pass"])
         self.assertAlmostEqual(r["delta"], 0.002)
-        self.assertFalse(compare("profile_max", Curve(self.x, y), lambda x: 2.0 * x, 0.0019, {"relative": False})["passed"])
+        self.assertFalse(compare("profile_max", Curve(self.x, y), lambda x: 2.0 * x, 0.0019, {"relative": False})["pass"])
 
     def test_points_outside_the_reference_are_an_error(self):
         with self.assertRaises(HarnessError):
@@ -74,12 +74,12 @@ class GridFamilies(unittest.TestCase):
         h = np.array([0.4, 0.2, 0.1, 0.05])
         fam = Family(h, 3.0 * h ** 2)
         self.assertTrue(np.allclose(observed_orders(fam), 2.0))
-        self.assertTrue(compare("observed_order", fam, 2.0, 0.1, {"pairs": 2})["passed"])
+        self.assertTrue(compare("observed_order", fam, 2.0, 0.1, {"pairs": 2})["pass"])
 
     def test_observed_order_fails_for_first_order_data(self):
         h = np.array([0.4, 0.2, 0.1])
         r = compare("observed_order", Family(h, 3.0 * h), 2.0, 0.1, {"pairs": 2})
-        self.assertFalse(r["passed"])
+        self.assertFalse(r["pass"])
         self.assertAlmostEqual(r["computed"], 1.0)
 
     def test_family_order_does_not_depend_on_listing_order(self):
@@ -94,8 +94,8 @@ class GridFamilies(unittest.TestCase):
         self.assertAlmostEqual(p, 2.0, places=10)
         self.assertAlmostEqual(fext, 1.0, places=10)
         self.assertAlmostEqual(g, 1.25 * (1.5 / 1.5) / 3.0, places=10)
-        self.assertTrue(compare("gci", fam, None, 0.5, {})["passed"])
-        self.assertFalse(compare("gci", fam, None, 0.3, {})["passed"])
+        self.assertTrue(compare("gci", fam, None, 0.5, {})["pass"])
+        self.assertFalse(compare("gci", fam, None, 0.3, {})["pass"])
 
     def test_gci_non_constant_ratio_recovers_the_order(self):
         h = np.array([3.0, 2.0, 1.0])
