@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 #include <fmt/format.h>
 
@@ -68,11 +69,12 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
              s.residual_drop, last.l2[0], last.l2[1], last.l2[2], last.l2[3]);
   fmt::print(f, "  \"settings\": {{\"reynolds\": {:.9g}, \"beta\": {:.9g}, \"viscous\": \"{}\", \"muscl_kappa\": {:.9g}, "
                 "\"muscl_phi\": {:.9g}, \"cfl_start\": {:.9g}, \"cfl_max\": {:.9g}, \"sgs_iterations\": {}, "
-                "\"max_iterations\": {}, \"residual_drop_target\": {:.3e}}},\n",
+                "\"max_iterations\": {}, \"residual_drop_target\": {:.3e}, \"multigrid_levels\": {}, \"multigrid_cycle\": \"{}\"}},\n",
              c.flow.reynolds, c.flow.beta,
              c.flow.viscous == ViscousForm::Full ? "full" : (c.flow.viscous == ViscousForm::ThinLayer ? "thin-layer" : "inviscid"),
              c.flow.muscl.kappa, c.flow.muscl.phi, c.solver.newton.cfl_start, c.solver.newton.cfl_max,
-             c.solver.newton.sgs_iterations, c.solver.max_iterations, c.solver.residual_drop);
+             c.solver.newton.sgs_iterations, c.solver.max_iterations, c.solver.residual_drop, c.solver.multigrid.levels,
+             c.solver.multigrid.gamma == 2 ? "W" : "V");
   fmt::print(f, "  \"forces\": {{");
   bool first = true;
   for (const auto& [name, fc] : forces) {
@@ -109,8 +111,18 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
 
   RestartInfo info;
   if (opt.restart) info = read_restart(*opt.restart, g, field);
-  NewtonSolver solver(g, field, fp, c.solver.newton);
+  // Single grid: one Newton-SGS iteration per step; multigrid: one FAS cycle.
+  std::unique_ptr<NewtonSolver> single;
+  std::unique_ptr<Multigrid> mg;
+  if (c.solver.multigrid.levels > 1) {
+    mg = std::make_unique<Multigrid>(g, field, fp, c.solver.newton, c.solver.multigrid);
+    if (!mg->level_note().empty()) fmt::print("narwhal: {}\n", mg->level_note());
+  } else {
+    single = std::make_unique<NewtonSolver>(g, field, fp, c.solver.newton);
+  }
+  NewtonSolver& solver = mg ? mg->finest() : *single;
   if (opt.restart) solver.set_reference_norm(info.reference_norm);
+  auto step = [&] { return mg ? mg->cycle() : solver.iterate(); };
 
   // Wall groups are known from the patches; forces appear in the history per group.
   fill_ghosts(g, field, fp);
@@ -127,12 +139,14 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   std::map<std::string, ForceCoefficients> forces;
   auto last_print = clock::now();
   if (!opt.progress)
-    fmt::print("narwhal: {} — {} blocks, {} cells, up to {} iterations\n", c.title, g.blocks.size(), g.cells(), max_it);
+    fmt::print("narwhal: {} — {} blocks, {} cells, up to {} {}\n", c.title, g.blocks.size(), g.cells(), max_it,
+               mg ? fmt::format("{}-cycles on {} levels", c.solver.multigrid.gamma == 2 ? "W" : "V", mg->levels())
+                  : std::string("iterations"));
 
   try {
     while (s.iterations < max_it) {
       const int it = s.iterations + 1;
-      last = solver.iterate();  // residual of the state entering this iteration, then the update
+      last = step();  // residual of the state entering this iteration (or cycle), then the update
       forces = all_forces(wall_faces(g, field, fp), c.output);
       history.write(it, elapsed(), last, forces);
       s.iterations = it;

@@ -151,6 +151,21 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   s.newton.sgs_iterations = r.integer_or("solver.sgs_iterations", s.newton.sgs_iterations,
                                          "symmetric Gauss-Seidel iterations per Newton iteration");
   s.newton.fd_epsilon = r.number_or("solver.fd_epsilon", s.newton.fd_epsilon, "the Jacobian difference step");
+  auto& mg = s.multigrid;
+  mg.levels = r.integer_or("solver.multigrid_levels", 1, "the number of multigrid levels (1: single grid)");
+  const std::string cyc = r.string_or("solver.multigrid_cycle", "W", "V or W");
+  if (cyc != "V" && cyc != "W") r.error("solver.multigrid_cycle", "expected \"V\" or \"W\", got '" + cyc + "'");
+  mg.gamma = cyc == "W" ? 2 : 1;
+  mg.pre_smooth = r.integer_or("solver.pre_smooth", mg.pre_smooth, "Newton-SGS iterations before restriction");
+  mg.post_smooth = r.integer_or("solver.post_smooth", mg.post_smooth, "Newton-SGS iterations after prolongation");
+  mg.coarse_smooth = r.integer_or("solver.coarse_smooth", mg.coarse_smooth, "iterations on the coarsest level");
+  const std::string pro = r.string_or("solver.prolongation", "trilinear", "trilinear or injection");
+  if (pro != "trilinear" && pro != "injection")
+    r.error("solver.prolongation", "expected \"trilinear\" or \"injection\", got '" + pro + "'");
+  mg.injection = pro == "injection";
+  mg.reuse_jacobian = r.boolean_or("solver.reuse_jacobian", mg.reuse_jacobian,
+                                   "whether post-smoothing reuses the pre-smoothing Jacobians");
+  if (mg.levels < 1) r.error("solver.multigrid_levels", "must be >= 1");
   if (s.max_iterations < 0) r.error("solver.max_iterations", "must be >= 0");
   if (s.newton.sgs_iterations < 1) r.error("solver.sgs_iterations", "must be >= 1");
 

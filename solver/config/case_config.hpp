@@ -10,6 +10,7 @@
 #include "mesh/block.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/setup.hpp"
+#include "multigrid/fas.hpp"
 #include "physics/flow.hpp"
 #include "physics/manufactured.hpp"
 
@@ -43,6 +44,7 @@ struct PeriodicConfig {
 
 struct SolverConfig {
   NewtonSettings newton;
+  MultigridSettings multigrid;  // levels = 1: single grid
   int max_iterations = 1000;
   Real residual_drop = 1e-10;      // converged when |R| / |R_0| falls below
   Real divergence_factor = 1e4;    // diverged when |R| / |R_0| exceeds

@@ -129,6 +129,12 @@ std::string NewtonSolver::describe_largest_residual() const {
 IterationNorms NewtonSolver::evaluate_residual() {
   fill_ghosts(g_, f_, fp_);
   compute_residual(g_, f_, fp_, R_);
+  if (forcing_)
+    for (std::size_t ib = 0; ib < R_.size(); ++ib) {
+      auto& r = R_[ib].raw();
+      const auto& fr = (*forcing_)[ib].raw();
+      for (std::size_t n = 0; n < r.size(); ++n) r[n] -= fr[n];
+    }
   check_finite();
   return norms();
 }
@@ -236,16 +242,29 @@ void NewtonSolver::sweep_block(int ib, bool forward) {
   }
 }
 
+Real NewtonSolver::ser_cfl(Real norm) {
+  if (ref_norm_ <= 0.0) ref_norm_ = norm;
+  return std::min(s_.cfl_max, s_.cfl_start * ref_norm_ / std::max(norm, 1e-300));
+}
+
 IterationNorms NewtonSolver::iterate() {
   IterationNorms n = evaluate_residual();
-  if (ref_norm_ <= 0.0) ref_norm_ = n.total;
-  // §6.6 switched evolution relaxation.
-  const Real cfl = std::min(s_.cfl_max, s_.cfl_start * ref_norm_ / std::max(n.total, 1e-300));
+  return relax_and_update(n, ser_cfl(n.total));
+}
+
+IterationNorms NewtonSolver::iterate_with_cfl(Real cfl, bool reuse_jacobian) {
+  return relax_and_update(evaluate_residual(), cfl, reuse_jacobian);
+}
+
+IterationNorms NewtonSolver::relax_and_update(IterationNorms n, Real cfl, bool reuse_jacobian) {
   n.cfl = cfl;
+  const bool reuse = reuse_jacobian && assembled_ && cfl == assembled_cfl_;
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
-    assemble_block(static_cast<int>(ib), cfl);
+    if (!reuse) assemble_block(static_cast<int>(ib), cfl);
     dQ_[ib].fill(State::Zero());
   }
+  assembled_ = true;
+  assembled_cfl_ = cfl;
   for (int it = 0; it < s_.sgs_iterations; ++it) {
     for (bool forward : {true, false}) {
       for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) sweep_block(static_cast<int>(ib), forward);

@@ -38,8 +38,25 @@ class NewtonSolver {
   NewtonSolver(Grid& g, FlowField& f, const FlowParams& fp, NewtonSettings s);
 
   // One Newton iteration: BCs, residual, Jacobians, SGS, update. Returns the
-  // norms of the residual evaluated at the start of the iteration.
+  // norms of the residual evaluated at the start of the iteration. The CFL
+  // follows switched evolution relaxation from the first residual (§6.6).
   IterationNorms iterate();
+
+  // The same with a CFL number given from outside (multigrid levels use the
+  // finest level's SER value).
+  IterationNorms iterate_with_cfl(Real cfl, bool reuse_jacobian = false);
+
+  // The Jacobian, SGS and update half of an iteration, for a residual that was
+  // just evaluated (evaluate_residual) at the current state.
+  // With `reuse_jacobian`, the block matrices of the previous iteration are kept
+  // (same CFL): they only shape the path, not the converged answer.
+  IterationNorms relax_and_update(IterationNorms n, Real cfl, bool reuse_jacobian = false);
+
+  // SER CFL for a residual norm (§6.6); fixes the reference norm on first use.
+  Real ser_cfl(Real norm);
+
+  // FAS forcing f (§7.2): the smoother then drives R(Q) - f to zero. nullptr: none.
+  void set_forcing(const std::vector<GhostArray<State>>* f) { forcing_ = f; }
 
   // Residual of the current state (fills ghosts), without updating.
   IterationNorms evaluate_residual();
@@ -48,6 +65,7 @@ class NewtonSolver {
   Real reference_norm() const { return ref_norm_; }
   void set_reference_norm(Real r) { ref_norm_ = r; }
 
+  // R(Q) - f of the last evaluation (cell-integrated, no ghosts).
   const std::vector<GhostArray<State>>& residual() const { return R_; }
 
   // Checks every residual and state entry; throws DivergenceError naming the
@@ -67,6 +85,9 @@ class NewtonSolver {
   FlowParams fp_;
   NewtonSettings s_;
   Real ref_norm_ = -1.0;
+  const std::vector<GhostArray<State>>* forcing_ = nullptr;
+  bool assembled_ = false;
+  Real assembled_cfl_ = 0.0;
   std::vector<GhostArray<State>> R_;
   std::vector<GhostArray<State>> dQ_;
   std::vector<GhostArray<Mat4>> Dinv_;

@@ -12,7 +12,7 @@ from pathlib import Path
 from .errors import HarnessError
 
 TIERS = ("quick", "nightly")
-COMPARATORS = ("abs", "rel", "profile_rms", "profile_max", "observed_order", "gci", "restart_equal")
+COMPARATORS = ("abs", "rel", "profile_rms", "profile_max", "observed_order", "gci", "restart_equal", "max", "min")
 
 
 @dataclass

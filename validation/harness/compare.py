@@ -120,6 +120,12 @@ def compare(comparator, computed, reference, tolerance, options):
                    plot={"kind": "family", "h": computed.h.tolist(), "values": computed.values.tolist(),
                          "orders": [float(o) for o in observed_orders(computed)] if np.all(computed.values != 0) else [],
                          "theory": None, "extrapolated": f_ext})
+    elif comparator in ("max", "min"):
+        # One-sided bounds (requirements such as "at most 40 cycles", "at least 5x faster").
+        c = _scalar(computed, "computed value")
+        ok = c <= tolerance if comparator == "max" else c >= tolerance
+        out.update(computed=c, reference=None if reference is None else _scalar(reference, "reference"),
+                   delta=c - tolerance, passed=bool(ok))
     elif comparator == "restart_equal":
         c = _scalar(computed, "history difference")
         out.update(computed=c, reference=0.0, delta=c, passed=bool(c <= tolerance))

@@ -214,7 +214,27 @@ def history_difference(ctx, spec, run_id):
     return worst
 
 
-KINDS = {"surface": surface, "run_json": run_json, "history_last": history_last, "field_error": field_error, "boundary_layer": boundary_layer,
+def ratio(ctx, spec, run_id):
+    """Ratio of two scalar extractions, e.g. single-grid over multigrid wall time."""
+    a, b = extract(ctx, _need(spec, "a", "the numerator extraction")), extract(ctx, _need(spec, "b", "the denominator"))
+    if isinstance(a, (Curve, Family)) or isinstance(b, (Curve, Family)):
+        raise HarnessError("ratio needs two scalar extractions")
+    if b == 0.0:
+        raise HarnessError("ratio: the denominator is zero")
+    return float(a) / float(b)
+
+
+def curve_difference(ctx, spec, run_id):
+    """Largest |a - b| between two curves sampled at the same points (e.g. Cf of two runs)."""
+    a, b = extract(ctx, _need(spec, "a", "the first curve")), extract(ctx, _need(spec, "b", "the second curve"))
+    if not isinstance(a, Curve) or not isinstance(b, Curve):
+        raise HarnessError("curve_difference needs two curves")
+    if a.x.shape != b.x.shape or np.max(np.abs(a.x - b.x)) > 1e-12 * max(1.0, np.max(np.abs(a.x))):
+        raise HarnessError("curve_difference: the curves are not sampled at the same points")
+    return float(np.max(np.abs(a.y - b.y)))
+
+
+KINDS = {"surface": surface, "ratio": ratio, "curve_difference": curve_difference, "run_json": run_json, "history_last": history_last, "field_error": field_error, "boundary_layer": boundary_layer,
          "duct": duct, "history_difference": history_difference}
 
 

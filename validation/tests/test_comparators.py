@@ -28,6 +28,14 @@ class Scalars(unittest.TestCase):
         with self.assertRaises(HarnessError):
             compare("abs", Curve([0, 1], [0, 1]), 1.0, 0.1, {})
 
+    def test_one_sided_bounds(self):
+        self.assertTrue(compare("max", 38.0, None, 40.0, {})["pass"])
+        self.assertFalse(compare("max", 41.0, None, 40.0, {})["pass"])
+        self.assertTrue(compare("min", 5.5, None, 5.0, {})["pass"])
+        r = compare("min", 4.5, None, 5.0, {})
+        self.assertFalse(r["pass"])
+        self.assertAlmostEqual(r["delta"], -0.5)
+
     def test_restart_equal(self):
         self.assertTrue(compare("restart_equal", 0.0, None, 0.0, {})["pass"])
         self.assertFalse(compare("restart_equal", 1e-9, None, 1e-12, {})["pass"])

@@ -1,0 +1,70 @@
+#include "multigrid/coarsen.hpp"
+
+#include "core/error.hpp"
+
+namespace narwhal {
+
+Index3 coarsening_factors(const Block& b) {
+  Index3 c;
+  for (int d = 0; d < 3; ++d) c[d] = b.n(d) > 1 ? 2 : 1;
+  return c;
+}
+
+std::string why_not_coarsenable(const Grid& g) {
+  for (const Block& b : g.blocks) {
+    const Index3 c = coarsening_factors(b);
+    if (c == Index3{1, 1, 1}) return fmt::format("block '{}' has a single cell in every direction", b.name);
+    for (int d = 0; d < 3; ++d)
+      if (c[d] == 2 && b.n(d) % 2 != 0)
+        return fmt::format("block '{}' has {} cells in direction {} (odd)", b.name, b.n(d), "ijk"[d]);
+    for (const Patch& p : b.patches)
+      for (int d = 0; d < 3; ++d)
+        if (d != side_dir(p.side) && c[d] == 2 && (p.lo[d] % 2 != 0 || p.hi[d] % 2 != 0))
+          return fmt::format("block '{}' patch '{}' starts or ends at an odd index in direction {}", b.name,
+                             p.label, "ijk"[d]);
+  }
+  for (const Interface& itf : g.interfaces) {
+    const Index3 ca = coarsening_factors(g.blocks[itf.block]);
+    const Index3 cb = coarsening_factors(g.blocks[itf.donor]);
+    for (int m = 0; m < 3; ++m)
+      for (int n = 0; n < 3; ++n)
+        if (itf.T(n, m) != 0 && m != side_dir(itf.side) && ca[m] != cb[n])
+          return fmt::format("interface '{}'-'{}' joins directions coarsened differently", g.blocks[itf.block].name,
+                             g.blocks[itf.donor].name);
+  }
+  return "";
+}
+
+Grid coarsen(const Grid& g) {
+  const std::string why = why_not_coarsenable(g);
+  if (!why.empty()) fail("cannot coarsen the grid: {}", why);
+  Grid h;
+  for (const Block& b : g.blocks) {
+    const Index3 c = coarsening_factors(b);
+    Block cb(b.name, b.ni / c[0], b.nj / c[1], b.nk / c[2]);
+    for (int k = 0; k <= cb.nk; ++k)
+      for (int j = 0; j <= cb.nj; ++j)
+        for (int i = 0; i <= cb.ni; ++i) cb.x(i, j, k) = b.x(c[0] * i, c[1] * j, c[2] * k);
+    for (Patch p : b.patches) {
+      for (int d = 0; d < 3; ++d) {
+        p.lo[d] /= c[d];
+        p.hi[d] /= c[d];
+      }
+      cb.patches.push_back(p);
+    }
+    h.blocks.push_back(std::move(cb));
+  }
+  for (Interface itf : g.interfaces) {
+    const Index3 ca = coarsening_factors(g.blocks[itf.block]);
+    const Index3 cd = coarsening_factors(g.blocks[itf.donor]);
+    for (int d = 0; d < 3; ++d) {
+      itf.a0[d] /= ca[d];
+      itf.b0[d] /= cd[d];
+    }
+    h.interfaces.push_back(itf);
+  }
+  prepare_geometry(h);
+  return h;
+}
+
+}  // namespace narwhal

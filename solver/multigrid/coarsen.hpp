@@ -1,0 +1,22 @@
+#pragma once
+// Coarse grids for FAS multigrid (NUMERICS §7.1): every other node line is removed
+// in each direction that has more than one cell; a direction with a single cell
+// (2-D cases) is kept. Patches and 1-to-1 interfaces are inherited; the coarse
+// geometry is computed from the coarse nodes (§2), so the GCL holds per level.
+#include <string>
+#include <vector>
+
+#include "mesh/block.hpp"
+
+namespace narwhal {
+
+// Coarsening factor (1 or 2) of each direction of a block.
+Index3 coarsening_factors(const Block& b);
+
+// Why `g` cannot be coarsened once more ("" when it can).
+std::string why_not_coarsenable(const Grid& g);
+
+// The next coarser grid (ghost nodes and metrics prepared).
+Grid coarsen(const Grid& g);
+
+}  // namespace narwhal

@@ -1,0 +1,197 @@
+#include "multigrid/fas.hpp"
+
+#include "bc/boundary.hpp"
+#include "core/error.hpp"
+#include "mesh/ghost_sweep.hpp"
+#include "multigrid/coarsen.hpp"
+
+namespace narwhal {
+namespace {
+
+template <class F>
+void for_cells(const Block& b, F&& f) {
+  for (int k = 0; k < b.nk; ++k)
+    for (int j = 0; j < b.nj; ++j)
+      for (int i = 0; i < b.ni; ++i) f(i, j, k);
+}
+
+// Ghosts of a coarse-grid correction (§7.3): homogeneous version of each BC.
+void fill_correction_ghosts(Grid& g, std::vector<GhostArray<State>>& dq) {
+  ghost_sweep(g, [&](int ib, const Patch& p) {
+    const Block& b = g.blocks[ib];
+    auto& D = dq[ib];
+    const PatchRange r = extended_cell_range(b, p);
+    if (p.type == BcType::Interface) {
+      const Interface& itf = g.interfaces[p.interface];
+      for_each_in(r, [&](Index3 c) {
+        for (int m = 1; m <= kGhost; ++m) {
+          const Index3 gc = ghost_cell(b, p.side, c, m);
+          State q = dq[itf.donor](itf.map_cell(gc));
+          q.tail<3>() = itf.R * q.tail<3>();
+          D(gc) = q;
+        }
+      });
+      return;
+    }
+    for_each_in(r, [&](Index3 c) {
+      const Vec3 n = outward_face(b, p.side, c).S.normalized();
+      for (int m = 1; m <= kGhost; ++m) {
+        State q = D(interior_cell(b, p.side, c, m));
+        switch (p.type) {
+          case BcType::Wall: q.tail<3>() = -q.tail<3>(); break;                      // Dirichlet velocity
+          case BcType::Dirichlet: q = -q; break;                                      // all components fixed
+          case BcType::Symmetry: q.tail<3>() -= 2.0 * n.dot(q.tail<3>()) * n; break;  // mirror
+          default: break;                                                             // characteristic: extrapolate
+        }
+        D(ghost_cell(b, p.side, c, m)) = q;
+      }
+    });
+  });
+}
+
+}  // namespace
+
+Multigrid::Multigrid(Grid& fine, FlowField& field, const FlowParams& fp, const NewtonSettings& ns,
+                     MultigridSettings ms)
+    : ms_(ms) {
+  if (ms.levels < 1) fail("multigrid: the number of levels must be >= 1");
+  if (ms.gamma < 1 || ms.gamma > 2) fail("multigrid: gamma must be 1 (V-cycle) or 2 (W-cycle)");
+  Level top;
+  top.grid = &fine;
+  top.field = &field;
+  top.fp = fp;
+  levels_.push_back(std::move(top));
+  while (static_cast<int>(levels_.size()) < ms.levels) {
+    const std::string why = why_not_coarsenable(*levels_.back().grid);
+    if (!why.empty()) {
+      note_ = fmt::format("multigrid: {} level(s) instead of {}: {}", levels_.size(), ms.levels, why);
+      break;
+    }
+    Level l;
+    l.owned = std::make_unique<Grid>(coarsen(*levels_.back().grid));
+    l.grid = l.owned.get();
+    l.fp = fp;
+    l.fp.muscl.phi = 0.0;  // §7.3: first-order inviscid flux on coarse levels
+    l.owned_field = std::make_unique<FlowField>();
+    l.owned_field->allocate(*l.grid, l.fp, State::Zero());
+    l.field = l.owned_field.get();
+    levels_.push_back(std::move(l));
+  }
+  for (auto& l : levels_) {
+    l.solver = std::make_unique<NewtonSolver>(*l.grid, *l.field, l.fp, ns);
+    for (const Block& b : l.grid->blocks) {
+      l.forcing.emplace_back(b.ni, b.nj, b.nk, 0, State::Zero());
+      l.q0.emplace_back(b.ni, b.nj, b.nk, 0, State::Zero());
+      l.correction.emplace_back(b.ni, b.nj, b.nk, kGhost, State::Zero());
+    }
+  }
+  for (std::size_t l = 1; l < levels_.size(); ++l) levels_[l].solver->set_forcing(&levels_[l].forcing);
+}
+
+// `fresh`: the residual of the current state was just evaluated; the first
+// iteration reuses it instead of evaluating it again.
+void Multigrid::smooth(int l, int iterations, Real cfl, const IterationNorms* fresh, bool reuse) {
+  for (int it = 0; it < iterations; ++it) {
+    if (it == 0 && fresh)
+      levels_[l].solver->relax_and_update(*fresh, cfl, reuse);
+    else
+      levels_[l].solver->iterate_with_cfl(cfl, reuse && it == 0);
+  }
+}
+
+void Multigrid::restrict_to(int l) {
+  Level& fine = levels_[l - 1];
+  Level& coarse = levels_[l];
+  fine.solver->evaluate_residual();  // R_h(Q_h) - f_h at the smoothed state
+  const auto& rh = fine.solver->residual();
+  for (std::size_t ib = 0; ib < coarse.grid->blocks.size(); ++ib) {
+    const Block& bh = fine.grid->blocks[ib];
+    const Block& bH = coarse.grid->blocks[ib];
+    const Index3 c = coarsening_factors(bh);
+    auto& QH = coarse.field->Q[ib];
+    for_cells(bH, [&](int I, int J, int K) {
+      State q = State::Zero();
+      State r = State::Zero();
+      for (int dk = 0; dk < c[2]; ++dk)
+        for (int dj = 0; dj < c[1]; ++dj)
+          for (int di = 0; di < c[0]; ++di) {
+            const int i = c[0] * I + di, j = c[1] * J + dj, k = c[2] * K + dk;
+            q += bh.vol(i, j, k) * fine.field->Q[ib](i, j, k);
+            r += rh[ib](i, j, k);
+          }
+      QH(I, J, K) = q / bH.vol(I, J, K);  // volume-weighted solution restriction
+      coarse.q0[ib](I, J, K) = QH(I, J, K);
+      coarse.forcing[ib](I, J, K) = -r;    // summed residual, completed below
+    });
+  }
+  // f_H = N_H(Q_H^0) + sum(f_h - N_h(Q_h)) (§7.2 step 4).
+  coarse.solver->set_forcing(nullptr);
+  coarse.solver->evaluate_residual();
+  const auto& RH = coarse.solver->residual();
+  for (std::size_t ib = 0; ib < coarse.grid->blocks.size(); ++ib) {
+    auto& f = coarse.forcing[ib].raw();
+    const auto& r = RH[ib].raw();
+    for (std::size_t n = 0; n < f.size(); ++n) f[n] += r[n];
+  }
+  coarse.solver->set_forcing(&coarse.forcing);
+}
+
+void Multigrid::prolong_from(int l) {
+  Level& fine = levels_[l - 1];
+  Level& coarse = levels_[l];
+  for (std::size_t ib = 0; ib < coarse.grid->blocks.size(); ++ib) {
+    const Block& bH = coarse.grid->blocks[ib];
+    for_cells(bH, [&](int I, int J, int K) {
+      coarse.correction[ib](I, J, K) = coarse.field->Q[ib](I, J, K) - coarse.q0[ib](I, J, K);
+    });
+  }
+  fill_correction_ghosts(*coarse.grid, coarse.correction);
+  for (std::size_t ib = 0; ib < fine.grid->blocks.size(); ++ib) {
+    const Block& bh = fine.grid->blocks[ib];
+    const Index3 c = coarsening_factors(bh);
+    const auto& D = coarse.correction[ib];
+    auto& Q = fine.field->Q[ib];
+    for_cells(bh, [&](int i, int j, int k) {
+      const Index3 fc{i, j, k};
+      Index3 parent, side;
+      for (int d = 0; d < 3; ++d) {
+        parent[d] = fc[d] / c[d];
+        side[d] = (c[d] == 2 && !ms_.injection) ? (fc[d] % 2 == 0 ? -1 : 1) : 0;
+      }
+      // Trilinear in index space: 3/4 from the parent, 1/4 from the neighbour on
+      // the octant's side, per coarsened direction (27/64, 9/64, 3/64, 1/64 in 3-D).
+      State dq = State::Zero();
+      for (int ok = 0; ok <= (side[2] != 0); ++ok)
+        for (int oj = 0; oj <= (side[1] != 0); ++oj)
+          for (int oi = 0; oi <= (side[0] != 0); ++oi) {
+            const Real w = (side[0] ? (oi ? 0.25 : 0.75) : 1.0) * (side[1] ? (oj ? 0.25 : 0.75) : 1.0) *
+                           (side[2] ? (ok ? 0.25 : 0.75) : 1.0);
+            dq += w * D(parent[0] + oi * side[0], parent[1] + oj * side[1], parent[2] + ok * side[2]);
+          }
+      Q(i, j, k) += dq;
+    });
+  }
+}
+
+void Multigrid::visit(int l, Real cfl, const IterationNorms* fresh) {
+  const int last = static_cast<int>(levels_.size()) - 1;
+  if (l == last) {
+    smooth(l, l == 0 ? 1 : ms_.coarse_smooth, cfl, fresh);
+    return;
+  }
+  smooth(l, ms_.pre_smooth, cfl, fresh);
+  restrict_to(l + 1);
+  for (int g = 0; g < ms_.gamma; ++g) visit(l + 1, cfl, nullptr);
+  prolong_from(l + 1);
+  smooth(l, ms_.post_smooth, cfl, nullptr, ms_.reuse_jacobian);
+}
+
+IterationNorms Multigrid::cycle() {
+  NewtonSolver& top = *levels_[0].solver;
+  IterationNorms n = top.evaluate_residual();
+  n.cfl = top.ser_cfl(n.total);
+  visit(0, n.cfl, &n);
+  return n;
+}
+
+}  // namespace narwhal
