@@ -112,12 +112,14 @@ void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
       });
       return;
     }
+    const bool characteristic = is_characteristic_bc(p.type);
     for_each_in(r, [&](Index3 c) {
-      const FaceGeom o = outward_face(b, p.side, c);
-      const Vec3 n = o.S.normalized();
+      // Normals only where the BC uses them (symmetry, characteristic states).
+      const FaceGeom o = (characteristic || p.type == BcType::Symmetry) ? outward_face(b, p.side, c) : FaceGeom{};
+      const Vec3 n = p.type == BcType::Symmetry ? Vec3(o.S.normalized()) : Vec3::Zero();
       const Index3 c1 = interior_cell(b, p.side, c, 1);
       State qb = Q(c1);
-      if (is_characteristic_bc(p.type)) qb = boundary_state(p, Q(c1), o, b.xf[d](boundary_face_index(b, p.side, c)), fp);
+      if (characteristic) qb = boundary_state(p, Q(c1), o, b.xf[d](boundary_face_index(b, p.side, c)), fp);
       for (int m = 1; m <= kGhost; ++m) {
         const Index3 cm = interior_cell(b, p.side, c, m);
         const Index3 gc = ghost_cell(b, p.side, c, m);

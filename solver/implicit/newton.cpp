@@ -19,28 +19,45 @@ inline Index3 add(Index3 a, const Index3& b, int s = 1) {
 }
 
 // First-order boundary flux as a function of the first interior state (§5.0):
-// the ghost follows Q_1 through the BC, external data held fixed.
-State boundary_flux_first_order(const Block& b, const Patch& p, const Index3& c, const State& q1,
-                                const GhostArray<Real>& nu, const FlowParams& fp) {
-  const int d = side_dir(p.side);
-  const bool high = side_high(p.side);
-  const Index3 f = boundary_face_index(b, p.side, c);
-  const FaceGeom face{b.S[d](f), b.kt[d](f)};
-  if (p.type == BcType::Wall)
-    return wall_flux(p, q1, face, high, wall_distance(b, p.side, c), 1.0 / fp.reynolds, fp.beta);
-  const FaceGeom o = outward_face(b, p.side, c);
-  State qb = q1;
-  if (is_characteristic_bc(p.type)) qb = boundary_state(p, q1, o, b.xf[d](f), fp);
-  // Dirichlet ghosts do not depend on the interior (see fill_ghosts).
-  const State qg = p.type == BcType::Dirichlet ? fp.exact(b.xc(ghost_cell(b, p.side, c, 1)))
-                                                : ghost_value(p, q1, qb, o.S.normalized());
-  const State& qL = high ? q1 : qg;
-  const State& qR = high ? qg : q1;
-  State F = is_characteristic_bc(p.type) ? physical_flux<Real>(qb, face, fp.beta) : roe_flux<Real>(qL, qR, face, fp.beta);
-  if (fp.viscous != ViscousForm::Inviscid)
-    F.tail<3>() -= thin_layer_coefficient(b, nu, d, f) * (qR.tail<3>() - qL.tail<3>());
-  return F;
-}
+// the ghost follows Q_1 through the BC, external data held fixed. The geometry of
+// the face is gathered once; `operator()` is what the Jacobian differences.
+struct BoundaryFaceFlux {
+  const Patch& p;
+  const FlowParams& fp;
+  bool high;
+  FaceGeom face, outward;
+  Vec3 n, xface;
+  Real d_wall = 0.0, tl = 0.0;
+  State ghost_exact = State::Zero();
+
+  BoundaryFaceFlux(const Block& b, const Patch& patch, const Index3& c, const GhostArray<Real>& nu,
+                   const FlowParams& params)
+      : p(patch), fp(params), high(side_high(patch.side)) {
+    const int d = side_dir(p.side);
+    const Index3 f = boundary_face_index(b, p.side, c);
+    face = FaceGeom{b.S[d](f), b.kt[d](f)};
+    outward = outward_face(b, p.side, c);
+    n = outward.S.normalized();
+    xface = b.xf[d](f);
+    if (p.type == BcType::Wall) d_wall = wall_distance(b, p.side, c);
+    if (fp.viscous != ViscousForm::Inviscid) tl = thin_layer_coefficient(b, nu, d, f);
+    // Dirichlet ghosts do not depend on the interior (see fill_ghosts).
+    if (p.type == BcType::Dirichlet) ghost_exact = fp.exact(b.xc(ghost_cell(b, p.side, c, 1)));
+  }
+
+  State operator()(const State& q1) const {
+    if (p.type == BcType::Wall) return wall_flux(p, q1, face, high, d_wall, 1.0 / fp.reynolds, fp.beta);
+    State qb = q1;
+    if (is_characteristic_bc(p.type)) qb = boundary_state(p, q1, outward, xface, fp);
+    const State qg = p.type == BcType::Dirichlet ? ghost_exact : ghost_value(p, q1, qb, n);
+    const State& qL = high ? q1 : qg;
+    const State& qR = high ? qg : q1;
+    State F = is_characteristic_bc(p.type) ? physical_flux<Real>(qb, face, fp.beta)
+                                            : roe_flux<Real>(qL, qR, face, fp.beta);
+    F.tail<3>() -= tl * (qR.tail<3>() - qL.tail<3>());
+    return F;
+  }
+};
 }  // namespace
 
 NewtonSolver::NewtonSolver(Grid& g, FlowField& f, const FlowParams& fp, NewtonSettings s)
@@ -145,41 +162,45 @@ void NewtonSolver::assemble_block(int ib, Real cfl) {
   const auto& nu = f_.nu[ib];
   const Real eps = s_.fd_epsilon;
   // Face Jacobians of the first-order flux (phi = 0) plus the thin-layer viscous part (§4.4).
+  auto interior_face = [&](int d, const Index3& f) {
+    const Index3 cL = add(f, unit(d), -1), cR = f;
+    const FaceGeom face{b.S[d](f), b.kt[d](f)};
+    const State F0 = roe_flux<Real>(Q(cL), Q(cR), face, fp_.beta);
+    Mat4 AL = numerical_jacobian([&](const State& q) { return roe_flux<Real>(q, Q(cR), face, fp_.beta); }, Q(cL),
+                                 F0, eps);
+    Mat4 AR = numerical_jacobian([&](const State& q) { return roe_flux<Real>(Q(cL), q, face, fp_.beta); }, Q(cR),
+                                 F0, eps);
+    if (fp_.viscous != ViscousForm::Inviscid) {
+      const Real cv = thin_layer_coefficient(b, nu, d, f);
+      for (int m = 1; m < kNumEq; ++m) {
+        AL(m, m) += cv;
+        AR(m, m) -= cv;
+      }
+    }
+    AL_[ib][d](f) = AL;
+    AR_[ib][d](f) = AR;
+  };
   for (int d = 0; d < 3; ++d) {
-    const Index3 e = unit(d);
-    for (int k = 0; k < b.nk + (d == 2); ++k)
-      for (int j = 0; j < b.nj + (d == 1); ++j)
-        for (int i = 0; i < b.ni + (d == 0); ++i) {
-          const Index3 f{i, j, k};
-          const Index3 cL = add(f, e, -1), cR = f;
-          const FaceGeom face{b.S[d](f), b.kt[d](f)};
-          const State F0 = roe_flux<Real>(Q(cL), Q(cR), face, fp_.beta);
-          Mat4 AL = numerical_jacobian([&](const State& q) { return roe_flux<Real>(q, Q(cR), face, fp_.beta); },
-                                       Q(cL), F0, eps);
-          Mat4 AR = numerical_jacobian([&](const State& q) { return roe_flux<Real>(Q(cL), q, face, fp_.beta); },
-                                       Q(cR), F0, eps);
-          if (fp_.viscous != ViscousForm::Inviscid) {
-            const Real cv = thin_layer_coefficient(b, nu, d, f);
-            for (int m = 1; m < kNumEq; ++m) {
-              AL(m, m) += cv;
-              AR(m, m) -= cv;
-            }
-          }
-          AL_[ib][d](f) = AL;
-          AR_[ib][d](f) = AR;
-        }
+    Index3 lo{0, 0, 0}, hi = b.dims();
+    lo[d] = 1;  // faces between two interior cells; block faces are done per patch below
+    for (int k = lo[2]; k < hi[2]; ++k)
+      for (int j = lo[1]; j < hi[1]; ++j)
+        for (int i = lo[0]; i < hi[0]; ++i) interior_face(d, Index3{i, j, k});
   }
   // Physical boundary faces: replace by the derivative through the BC (§5.0).
   for (const Patch& p : b.patches) {
-    if (p.type == BcType::Interface) continue;
     const int d = side_dir(p.side);
     PatchRange r{p.lo, p.hi};
     r.lo[d] = 0;
     r.hi[d] = 1;
+    if (p.type == BcType::Interface) {  // the neighbour's cells sit in the ghosts: an ordinary face
+      for_each_in(r, [&](Index3 c) { interior_face(d, boundary_face_index(b, p.side, c)); });
+      continue;
+    }
     for_each_in(r, [&](Index3 c) {
       const Index3 f = boundary_face_index(b, p.side, c);
       const State q1 = Q(interior_cell(b, p.side, c, 1));
-      auto flux = [&](const State& q) { return boundary_flux_first_order(b, p, c, q, nu, fp_); };
+      const BoundaryFaceFlux flux(b, p, c, nu, fp_);
       const Mat4 J = numerical_jacobian(flux, q1, flux(q1), eps);
       if (side_high(p.side)) {
         AL_[ib][d](f) = J;
@@ -252,6 +273,14 @@ IterationNorms NewtonSolver::iterate() {
   return relax_and_update(n, ser_cfl(n.total));
 }
 
+void NewtonSolver::sweeps_only(int pairs) {
+  for (int it = 0; it < pairs; ++it)
+    for (bool forward : {true, false}) {
+      for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) sweep_block(static_cast<int>(ib), forward);
+      exchange_interfaces(g_, dQ_);
+    }
+}
+
 IterationNorms NewtonSolver::iterate_with_cfl(Real cfl, bool reuse_jacobian) {
   return relax_and_update(evaluate_residual(), cfl, reuse_jacobian);
 }
@@ -265,12 +294,7 @@ IterationNorms NewtonSolver::relax_and_update(IterationNorms n, Real cfl, bool r
   }
   assembled_ = true;
   assembled_cfl_ = cfl;
-  for (int it = 0; it < s_.sgs_iterations; ++it) {
-    for (bool forward : {true, false}) {
-      for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) sweep_block(static_cast<int>(ib), forward);
-      exchange_interfaces(g_, dQ_);
-    }
-  }
+  sweeps_only(s_.sgs_iterations);
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
     const Block& b = g_.blocks[ib];
     for (int k = 0; k < b.nk; ++k)

@@ -52,6 +52,10 @@ class NewtonSolver {
   // (same CFL): they only shape the path, not the converged answer.
   IterationNorms relax_and_update(IterationNorms n, Real cfl, bool reuse_jacobian = false);
 
+  // Only the SGS sweeps (forward + backward pairs) with the matrices of the last
+  // assembly; for benchmarks and linear-solver studies.
+  void sweeps_only(int pairs);
+
   // SER CFL for a residual norm (§6.6); fixes the reference norm on first use.
   Real ser_cfl(Real norm);
 

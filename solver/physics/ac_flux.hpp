@@ -65,8 +65,10 @@ StateT<T> roe_flux(const StateT<T>& qL, const StateT<T>& qR, const FaceGeom& f, 
   const StateT<T> dQ = qR - qL;
   const auto a = acoustic_data(ux, uy, uz, f, beta);
   const T Sdu = f.S[0] * dQ[1] + f.S[1] * dQ[2] + f.S[2] * dQ[3];
-  const T alpha_p = (a.S2 * dQ[0] + a.lp * Sdu) / a.Np;
-  const T alpha_m = (a.S2 * dQ[0] + a.lm * Sdu) / a.Nm;
+  // alpha_pm = (|S|^2 dp + lambda_pm S.du) / N_pm with a single division.
+  const T inv = 1.0 / (a.Np * a.Nm);
+  const T alpha_p = (a.S2 * dQ[0] + a.lp * Sdu) * (a.Nm * inv);
+  const T alpha_m = (a.S2 * dQ[0] + a.lm * Sdu) * (a.Np * inv);
   const T theta_m = real_part(a.theta) < 0.0 ? a.theta : T(0.0);
   StateT<T> rp, rm;
   rp << beta * (a.lp - a.theta), beta * f.S[0] + a.lp * ux, beta * f.S[1] + a.lp * uy, beta * f.S[2] + a.lp * uz;

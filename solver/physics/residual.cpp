@@ -29,20 +29,24 @@ State viscous_face_flux(const Block& b, const GhostArray<State>& Q, const GhostA
     Fv.tail<3>() = thin_layer_coefficient(b, nu, d, f) * (Q(cR).tail<3>() - Q(cL).tail<3>());
     return Fv;
   }
-  // §4.2: grad u at the face by the chain rule in computational space.
+  // §4.2: grad u at the face by the chain rule in computational space,
+  //   G = (du_n S^T + du_t1 Sbar_t1^T + du_t2 Sbar_t2^T) / V_f,
+  // and tau S = nu (G + G^T) S expanded into dot products (no 3x3 tensors).
   const Vec3& S = b.S[d](f);
   const Real Vf = 0.5 * (b.vol(cL) + b.vol(cR));
-  Mat3 G = (Q(cR).tail<3>() - Q(cL).tail<3>()) * S.transpose();
+  const Vec3 dun = Q(cR).tail<3>() - Q(cL).tail<3>();
+  Vec3 GS = dun * S.squaredNorm();
+  Vec3 GtS = S * dun.dot(S);
   for (int t : {(d + 1) % 3, (d + 2) % 3}) {
     const Index3 et = unit(t);
     const Vec3 du = 0.25 * (Q(add(cL, et)).tail<3>() + Q(add(cR, et)).tail<3>() - Q(add(cL, et, -1)).tail<3>() -
                             Q(add(cR, et, -1)).tail<3>());
     const Vec3 Sbar = 0.25 * (b.S[t](cL) + b.S[t](add(cL, et)) + b.S[t](cR) + b.S[t](add(cR, et)));
-    G += du * Sbar.transpose();
+    GS += du * Sbar.dot(S);
+    GtS += Sbar * du.dot(S);
   }
-  G /= Vf;
   const Real nuf = 0.5 * (nu(cL) + nu(cR));
-  Fv.tail<3>() = nuf * (G + G.transpose()) * S;
+  Fv.tail<3>() = (nuf / Vf) * (GS + GtS);
   return Fv;
 }
 

@@ -1,0 +1,163 @@
+// Kernel benchmarks (Google Benchmark). Rates are reported per face or per cell
+// ("items_per_second"); the laminar flat plate of the R1 rung is the test grid.
+// Run: build/benchmarks/narwhal_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+#include <benchmark/benchmark.h>
+
+#include <random>
+#include <vector>
+
+#include "app/driver.hpp"
+#include "bc/boundary.hpp"
+#include "implicit/jacobian.hpp"
+#include "multigrid/fas.hpp"
+#include "physics/ac_flux.hpp"
+#include "physics/residual.hpp"
+
+using namespace narwhal;
+
+namespace {
+
+struct FaceSet {
+  std::vector<State> q;  // 4 cells per face: i-1, i, i+1, i+2
+  std::vector<FaceGeom> f;
+};
+
+FaceSet random_faces(int n) {
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<Real> U(-1.0, 1.0);
+  FaceSet s;
+  for (int m = 0; m < 4 * n; ++m) s.q.emplace_back(0.1 * U(rng), 1.0 + 0.2 * U(rng), 0.2 * U(rng), 0.2 * U(rng));
+  for (int m = 0; m < n; ++m) s.f.push_back({Vec3(U(rng), U(rng), U(rng)), 0.0});
+  return s;
+}
+
+void BM_RoeFluxMuscl(benchmark::State& st) {
+  const int n = 4096;
+  const FaceSet s = random_faces(n);
+  MusclParams mp;
+  for (auto _ : st) {
+    for (int m = 0; m < n; ++m) {
+      const State* q = &s.q[4 * m];
+      const State qL = muscl_left<State>(q[0], q[1], q[2], mp), qR = muscl_right<State>(q[1], q[2], q[3], mp);
+      benchmark::DoNotOptimize(roe_flux<Real>(qL, qR, s.f[m], 5.0));
+    }
+  }
+  st.SetItemsProcessed(st.iterations() * n);
+}
+BENCHMARK(BM_RoeFluxMuscl);
+
+void BM_NumericalJacobianPerFace(benchmark::State& st) {
+  const int n = 4096;
+  const FaceSet s = random_faces(n);
+  for (auto _ : st) {
+    for (int m = 0; m < n; ++m) {
+      const State& qL = s.q[4 * m + 1];
+      const State& qR = s.q[4 * m + 2];
+      const State F0 = roe_flux<Real>(qL, qR, s.f[m], 5.0);
+      benchmark::DoNotOptimize(numerical_jacobian([&](const State& q) { return roe_flux<Real>(q, qR, s.f[m], 5.0); }, qL, F0, 1e-7));
+      benchmark::DoNotOptimize(numerical_jacobian([&](const State& q) { return roe_flux<Real>(qL, q, s.f[m], 5.0); }, qR, F0, 1e-7));
+    }
+  }
+  st.SetItemsProcessed(st.iterations() * n);
+}
+BENCHMARK(BM_NumericalJacobianPerFace);
+
+// The R1 flat plate, advanced a few iterations so the state is a real flow.
+struct Plate {
+  CaseConfig c;
+  Grid g;
+  FlowField f;
+  FlowParams fp;
+  explicit Plate(std::vector<std::string> sets = {}) {
+    c = load_case(std::string(NARWHAL_SOURCE_DIR) + "/validation/cases/flat_plate_laminar/flat_plate.toml", sets);
+    g = build_grid(c);
+    fp = flow_params(c);
+    f.allocate(g, fp, c.initial);
+  }
+};
+
+void BM_ResidualPerCell(benchmark::State& st) {
+  Plate p;
+  std::vector<GhostArray<State>> R;
+  for (auto _ : st) {
+    fill_ghosts(p.g, p.f, p.fp);
+    compute_residual(p.g, p.f, p.fp, R);
+  }
+  st.SetItemsProcessed(st.iterations() * p.g.cells());
+}
+BENCHMARK(BM_ResidualPerCell)->Unit(benchmark::kMillisecond);
+
+void BM_NewtonIterationPerCell(benchmark::State& st) {
+  Plate p({"solver.sgs_iterations=1"});
+  NewtonSolver s(p.g, p.f, p.fp, p.c.solver.newton);
+  for (int i = 0; i < 10; ++i) s.iterate();
+  for (auto _ : st) s.iterate();  // residual, Jacobians, one SGS pair, update
+  st.SetItemsProcessed(st.iterations() * p.g.cells());
+}
+BENCHMARK(BM_NewtonIterationPerCell)->Unit(benchmark::kMillisecond);
+
+// The same on a 3-D grid (manufactured-solution box, 24^3 cells), where boundary
+// faces are a small share of all faces, as in production grids.
+void BM_NewtonIterationPerCell3D(benchmark::State& st) {
+  const CaseConfig c = load_case(std::string(NARWHAL_SOURCE_DIR) + "/validation/cases/mms/mms.toml",
+                                 {"grid.cells=24", "solver.sgs_iterations=1"});
+  Grid g = build_grid(c);
+  const FlowParams fp = flow_params(c);
+  FlowField f;
+  f.allocate(g, fp, c.initial);
+  NewtonSolver s(g, f, fp, c.solver.newton);
+  for (int i = 0; i < 10; ++i) s.iterate();
+  for (auto _ : st) s.iterate();
+  st.SetItemsProcessed(st.iterations() * g.cells());
+}
+BENCHMARK(BM_NewtonIterationPerCell3D)->Unit(benchmark::kMillisecond);
+
+void BM_SgsSweepPairPerCell(benchmark::State& st) {
+  Plate p;
+  NewtonSolver s(p.g, p.f, p.fp, p.c.solver.newton);
+  for (int i = 0; i < 10; ++i) s.iterate();
+  for (auto _ : st) s.sweeps_only(1);  // one forward + one backward sweep
+  st.SetItemsProcessed(st.iterations() * p.g.cells());
+}
+BENCHMARK(BM_SgsSweepPairPerCell)->Unit(benchmark::kMillisecond);
+
+// The 2x finer plate (32768 cells): the block matrices (~32 MB) no longer fit in
+// cache, so this sweep is the one compared with the memory-bandwidth bound.
+void BM_SgsSweepPairPerCellFine(benchmark::State& st) {
+  Plate p({"grid.cells_runup=64", "grid.cells_plate=192", "grid.cells_normal=128", "grid.dx_leading_edge=1.0e-3",
+           "grid.dy_wall=5.0e-5"});
+  NewtonSolver s(p.g, p.f, p.fp, p.c.solver.newton);
+  for (int i = 0; i < 3; ++i) s.iterate();
+  for (auto _ : st) s.sweeps_only(1);
+  st.SetItemsProcessed(st.iterations() * p.g.cells());
+}
+BENCHMARK(BM_SgsSweepPairPerCellFine)->Unit(benchmark::kMillisecond);
+
+void BM_MultigridVCyclePerCell(benchmark::State& st) {
+  Plate p;
+  MultigridSettings ms;
+  ms.levels = 4;
+  ms.gamma = 1;
+  Multigrid mg(p.g, p.f, p.fp, p.c.solver.newton, ms);
+  for (int i = 0; i < 5; ++i) mg.cycle();
+  for (auto _ : st) mg.cycle();
+  st.SetItemsProcessed(st.iterations() * p.g.cells());
+}
+BENCHMARK(BM_MultigridVCyclePerCell)->Unit(benchmark::kMillisecond);
+
+// STREAM-like triad a = b + s c over arrays far larger than the caches: the
+// machine's sustainable memory bandwidth (bytes_per_second: 3 x 8 bytes per element).
+void BM_StreamTriad(benchmark::State& st) {
+  const std::size_t n = 1u << 25;  // 32 M doubles per array, 768 MB in all
+  std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);
+  for (auto _ : st) {
+    for (std::size_t i = 0; i < n; ++i) a[i] = b[i] + 3.0 * c[i];
+    benchmark::ClobberMemory();
+  }
+  st.SetBytesProcessed(st.iterations() * n * 3 * sizeof(double));
+}
+BENCHMARK(BM_StreamTriad)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
