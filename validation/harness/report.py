@@ -168,7 +168,43 @@ def _perf_history(reports, tier):
     return out
 
 
-def _perf_page(out, reports, results):
+def _benchmark_section(out, history_dir):
+    """Kernel benchmark history with regression flags (harness/perf.py)."""
+    from . import perf
+    if not history_dir or not Path(history_dir).exists():
+        return ""
+    entries = perf.load(history_dir)
+    if not entries:
+        return ""
+    flags = perf.regressions(entries)
+    rows = ""
+    for name, (now, ref, ratio, bad) in sorted(flags.items()):
+        verdict = "<span class=FAIL>REGRESSION</span>" if bad else "<span class=PASS>ok</span>"
+        rows += (f"<tr><td>{html.escape(name)}</td><td class=num>{now / 1e6:.4g}</td>"
+                 f"<td class=num>{_fmt(ref / 1e6 if ref else None)}</td><td class=num>{_fmt(ratio)}</td>"
+                 f"<td>{verdict}</td></tr>")
+    body = ("<h2>Kernel benchmarks</h2><p class=why>Newest run against the rolling median of up to five earlier "
+            "runs on the same machine; flagged when more than 15 % slower.</p>"
+            "<table><tr><th>benchmark</th><th>median ms</th><th>rolling median ms</th><th>ratio</th><th></th></tr>"
+            f"{rows}</table>")
+    fig, ax = plt.subplots(figsize=(7.5, 4.2))
+    names = sorted(flags)
+    for name in names:
+        pts = [(i, e["median_ns"][name]) for i, e in enumerate(entries) if name in e["median_ns"]]
+        if pts:
+            ax.plot([p[0] for p in pts], [p[1] / pts[0][1] for p in pts], "o-", label=name, ms=3)
+    ax.set_xticks(range(len(entries)))
+    ax.set_xticklabels([e["git_sha"][:7] for e in entries], rotation=30, ha="right", fontsize=7)
+    ax.set_ylabel("median time / first run")
+    ax.set_title("kernel benchmark history")
+    ax.legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(out / "bench_history.png", dpi=90)
+    plt.close(fig)
+    return body + "<img src='bench_history.png' alt='benchmark history'>"
+
+
+def _perf_page(out, reports, results, history_dir=None):
     tier = results[0].get("tier") if results else None
     rows = ""
     for r in results:
@@ -198,6 +234,7 @@ def _perf_page(out, reports, results):
         fig.savefig(out / "perf_history.png", dpi=90)
         plt.close(fig)
         body += "<h2>History</h2><img src='perf_history.png' alt='performance history'>"
+    body += _benchmark_section(out, history_dir)
     body += ("<p class=why>Wall times on a shared 2-core machine are noisy; compare ratios and medians, "
              "never a single run.</p>")
     (out / "perf.html").write_text(_page("Performance", body))
@@ -215,7 +252,7 @@ def _screenshots(out, results):
             browser.screenshot(out / r["rung"] / "index.html", shots / f"{r['rung']}.png", 1280, 3000)
 
 
-def build_report(out, reports):
+def build_report(out, reports, history_dir=None):
     out, reports = Path(out), Path(reports)
     results = []
     for rj in sorted(out.glob("*/results.json")):
@@ -245,7 +282,7 @@ def build_report(out, reports):
             "<table><tr><th>rung</th><th>check</th><th>computed</th><th>reference</th><th>delta</th><th>tolerance</th>"
             f"<th>result</th><th>time s</th></tr>{rows}</table>")
     (out / "index.html").write_text(_page("Narwhal validation report", body))
-    _perf_page(out, reports, results)
+    _perf_page(out, reports, results, history_dir)
     _screenshots(out, results)
     latest = reports / "latest"
     if latest.exists():
