@@ -204,6 +204,30 @@ def _benchmark_section(out, history_dir):
     return body + "<img src='bench_history.png' alt='benchmark history'>"
 
 
+def _peer_section(reports):
+    """OpenFOAM vs Narwhal on the laminar flat plate (benchmarks/peer), when measured."""
+    pj = Path(reports) / "peer" / "peer.json"
+    if not pj.exists():
+        return ""
+    p = json.loads(pj.read_text())
+    rows = ""
+    for key, label in (("openfoam", "OpenFOAM simpleFoam (SIMPLEC, GAMG, linearUpwind)"),
+                       ("narwhal_multigrid", "Narwhal, 4-level V-cycle multigrid"),
+                       ("narwhal_single_grid", "Narwhal, single grid")):
+        r = p.get(key)
+        if r:
+            rows += (f"<tr><td>{label}</td><td class=num>{100 * r['cf_max_error']:.3f}</td>"
+                     f"<td class=num>{100 * r['cf_rms_error']:.3f}</td><td class=num>{r['iterations']}</td>"
+                     f"<td class=num>{r['wall_seconds']:.2f}</td></tr>")
+    verdict = "yes" if p.get("narwhal_reaches_openfoam_accuracy") else "no"
+    return (f"<h2>Peer benchmark: laminar flat plate, {p['cells']} cells, same grid, same run</h2>"
+            "<table><tr><th>code</th><th>max |Cf error| %</th><th>RMS Cf error %</th><th>iterations</th>"
+            f"<th>wall s</th></tr>{rows}</table>"
+            f"<p class=why>Narwhal reaches OpenFOAM's Cf accuracy (max and RMS over 0.1 &lt; x &lt; 0.9): {verdict}; "
+            f"OpenFOAM wall time / Narwhal multigrid wall time: {p['time_ratio_openfoam_over_narwhal']:.2f} "
+            "(target: at least 5).</p>")
+
+
 def _perf_page(out, reports, results, history_dir=None):
     tier = results[0].get("tier") if results else None
     rows = ""
@@ -234,6 +258,7 @@ def _perf_page(out, reports, results, history_dir=None):
         fig.savefig(out / "perf_history.png", dpi=90)
         plt.close(fig)
         body += "<h2>History</h2><img src='perf_history.png' alt='performance history'>"
+    body += _peer_section(reports)
     body += _benchmark_section(out, history_dir)
     body += ("<p class=why>Wall times on a shared 2-core machine are noisy; compare ratios and medians, "
              "never a single run.</p>")
