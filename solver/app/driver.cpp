@@ -89,12 +89,10 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
   std::fclose(f);
 }
 
-std::map<std::string, ForceCoefficients> all_forces(const std::map<std::string, std::vector<WallFace>>& faces,
-                                                    const OutputConfig& o) {
-  std::map<std::string, ForceCoefficients> out;
+void all_forces(const std::map<std::string, std::vector<WallFace>>& faces, const OutputConfig& o,
+                std::map<std::string, ForceCoefficients>& out) {
   for (const auto& [name, list] : faces)
     out[name] = integrate_forces(list, o.reference_area, o.reference_length, o.moment_centre);
-  return out;
 }
 
 }  // namespace
@@ -137,6 +135,7 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   auto elapsed = [&] { return info.wall_seconds + std::chrono::duration<Real>(clock::now() - t0).count(); };
   IterationNorms last;
   std::map<std::string, ForceCoefficients> forces;
+  std::map<std::string, std::vector<WallFace>> faces;  // reused every iteration
   auto last_print = clock::now();
   if (!opt.progress)
     fmt::print("narwhal: {} — {} blocks, {} cells, up to {} {}\n", c.title, g.blocks.size(), g.cells(), max_it,
@@ -147,7 +146,8 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
     while (s.iterations < max_it) {
       const int it = s.iterations + 1;
       last = step();  // residual of the state entering this iteration (or cycle), then the update
-      forces = all_forces(wall_faces(g, field, fp), c.output);
+      wall_faces(g, field, fp, faces);
+      all_forces(faces, c.output, forces);
       history.write(it, elapsed(), last, forces);
       s.iterations = it;
       s.residual_drop = last.total / solver.reference_norm();
@@ -188,7 +188,7 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   if (s.status != RunStatus::Diverged) {
     write_restart(restart_path, g, field, {s.iterations, solver.reference_norm(), s.wall_seconds}, c.text);
     fill_ghosts(g, field, fp);
-    auto faces = wall_faces(g, field, fp);
+    wall_faces(g, field, fp, faces);
     for (const auto& [name, list] : faces)
       write_surface_csv((fs::path(opt.out_dir) / fmt::format("surface_{}.csv", name)).string(), list);
     write_cgns_solution((fs::path(opt.out_dir) / "solution.cgns").string(), g, field);

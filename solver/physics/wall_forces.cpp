@@ -9,6 +9,13 @@ namespace narwhal {
 
 std::map<std::string, std::vector<WallFace>> wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp) {
   std::map<std::string, std::vector<WallFace>> out;
+  wall_faces(g, f, fp, out);
+  return out;
+}
+
+void wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp,
+                std::map<std::string, std::vector<WallFace>>& out) {
+  for (auto& [name, list] : out) list.clear();  // keeps capacity
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
     for (const Patch& p : b.patches) {
@@ -36,7 +43,6 @@ std::map<std::string, std::vector<WallFace>> wall_faces(const Grid& g, const Flo
       });
     }
   }
-  return out;
 }
 
 ForceCoefficients integrate_forces(const std::vector<WallFace>& faces, Real area_ref, Real length_ref,

@@ -22,6 +22,9 @@ struct ForceCoefficients {
 
 // Wall faces grouped by patch label (ghosts must be filled).
 std::map<std::string, std::vector<WallFace>> wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp);
+// The same into existing lists, reusing their storage (no allocation once warm).
+void wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp,
+                std::map<std::string, std::vector<WallFace>>& out);
 
 ForceCoefficients integrate_forces(const std::vector<WallFace>& faces, Real area_ref, Real length_ref,
                                    const Vec3& moment_centre);
