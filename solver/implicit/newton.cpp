@@ -87,12 +87,10 @@ IterationNorms NewtonSolver::norms() const {
   std::size_t cells = 0;
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
     const Block& b = g_.blocks[ib];
-    for (int k = 0; k < b.nk; ++k)
-      for (int j = 0; j < b.nj; ++j)
-        for (int i = 0; i < b.ni; ++i) {
-          const State r = R_[ib](i, j, k) / b.vol(i, j, k);
-          for (int m = 0; m < kNumEq; ++m) n.l2[m] += r[m] * r[m];
-        }
+    for_each_cell(b, [&](int i, int j, int k) {
+      const State r = R_[ib](i, j, k) / b.vol(i, j, k);
+      for (int m = 0; m < kNumEq; ++m) n.l2[m] += r[m] * r[m];
+    });
     cells += b.cells();
   }
   for (int m = 0; m < kNumEq; ++m) {
@@ -109,17 +107,17 @@ void NewtonSolver::check_finite() const {
   for (int pass = 0; pass < 2; ++pass)
     for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
       const Block& b = g_.blocks[ib];
-      for (int k = 0; k < b.nk; ++k)
-        for (int j = 0; j < b.nj; ++j)
-          for (int i = 0; i < b.ni; ++i)
-            for (int m = 0; m < kNumEq; ++m) {
-              if (pass == 0 && !std::isfinite(f_.Q[ib](i, j, k)[m]))
-                throw DivergenceError(fmt::format("non-finite {} in block '{}' cell ({}, {}, {})", kEquationNames[m],
-                                                  b.name, i, j, k));
-              if (pass == 1 && !std::isfinite(R_[ib](i, j, k)[m]))
-                throw DivergenceError(fmt::format("non-finite residual of the {} equation in block '{}' cell ({}, {}, {})",
-                                                  kEquationNames[m], b.name, i, j, k));
-            }
+      const auto& field = pass == 0 ? f_.Q[ib] : R_[ib];
+      for_each_cell(b, [&](int i, int j, int k) {
+        for (int m = 0; m < kNumEq; ++m) {
+          if (std::isfinite(field(i, j, k)[m])) continue;
+          throw DivergenceError(
+              pass == 0 ? fmt::format("non-finite {} in block '{}' cell ({}, {}, {})", kEquationNames[m], b.name, i,
+                                      j, k)
+                        : fmt::format("non-finite residual of the {} equation in block '{}' cell ({}, {}, {})",
+                                      kEquationNames[m], b.name, i, j, k));
+        }
+      });
     }
 }
 
@@ -128,17 +126,15 @@ std::string NewtonSolver::describe_largest_residual() const {
   std::string where;
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
     const Block& b = g_.blocks[ib];
-    for (int k = 0; k < b.nk; ++k)
-      for (int j = 0; j < b.nj; ++j)
-        for (int i = 0; i < b.ni; ++i)
-          for (int m = 0; m < kNumEq; ++m) {
-            const Real r = std::abs(R_[ib](i, j, k)[m]) / b.vol(i, j, k);
-            if (r > worst) {
-              worst = r;
-              where = fmt::format("block '{}' cell ({}, {}, {}), {} equation: |R|/V = {:.3e}", b.name, i, j, k,
-                                  kEquationNames[m], r);
-            }
-          }
+    for_each_cell(b, [&](int i, int j, int k) {
+      for (int m = 0; m < kNumEq; ++m) {
+        const Real r = std::abs(R_[ib](i, j, k)[m]) / b.vol(i, j, k);
+        if (r <= worst) continue;
+        worst = r;
+        where = fmt::format("block '{}' cell ({}, {}, {}), {} equation: |R|/V = {:.3e}", b.name, i, j, k,
+                            kEquationNames[m], r);
+      }
+    });
   }
   return where;
 }
@@ -295,12 +291,8 @@ IterationNorms NewtonSolver::relax_and_update(IterationNorms n, Real cfl, bool r
   assembled_ = true;
   assembled_cfl_ = cfl;
   sweeps_only(s_.sgs_iterations);
-  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
-    const Block& b = g_.blocks[ib];
-    for (int k = 0; k < b.nk; ++k)
-      for (int j = 0; j < b.nj; ++j)
-        for (int i = 0; i < b.ni; ++i) f_.Q[ib](i, j, k) += s_.relaxation * dQ_[ib](i, j, k);
-  }
+  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib)
+    for_each_cell(g_.blocks[ib], [&](int i, int j, int k) { f_.Q[ib](i, j, k) += s_.relaxation * dQ_[ib](i, j, k); });
   return n;
 }
 

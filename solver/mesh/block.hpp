@@ -87,6 +87,14 @@ inline Index3 unit(int d) {
   return e;
 }
 
+// Calls f(i, j, k) for every interior cell in memory order (i fastest).
+template <class F>
+void for_each_cell(const Block& b, F&& f) {
+  for (int k = 0; k < b.nk; ++k)
+    for (int j = 0; j < b.nj; ++j)
+      for (int i = 0; i < b.ni; ++i) f(i, j, k);
+}
+
 // Recompute S, face centroids, volumes and centres over the whole ghost-extended
 // range (§2.2–2.3). Ghost nodes must be filled first.
 void compute_metrics(Block& b);

@@ -8,13 +8,6 @@
 namespace narwhal {
 namespace {
 
-template <class F>
-void for_cells(const Block& b, F&& f) {
-  for (int k = 0; k < b.nk; ++k)
-    for (int j = 0; j < b.nj; ++j)
-      for (int i = 0; i < b.ni; ++i) f(i, j, k);
-}
-
 // Ghosts of a coarse-grid correction (§7.3): homogeneous version of each BC.
 void fill_correction_ghosts(Grid& g, std::vector<GhostArray<State>>& dq) {
   ghost_sweep(g, [&](int ib, const Patch& p) {
@@ -109,7 +102,7 @@ void Multigrid::restrict_to(int l) {
     const Block& bH = coarse.grid->blocks[ib];
     const Index3 c = coarsening_factors(bh);
     auto& QH = coarse.field->Q[ib];
-    for_cells(bH, [&](int I, int J, int K) {
+    for_each_cell(bH, [&](int I, int J, int K) {
       State q = State::Zero();
       State r = State::Zero();
       for (int dk = 0; dk < c[2]; ++dk)
@@ -141,7 +134,7 @@ void Multigrid::prolong_from(int l) {
   Level& coarse = levels_[l];
   for (std::size_t ib = 0; ib < coarse.grid->blocks.size(); ++ib) {
     const Block& bH = coarse.grid->blocks[ib];
-    for_cells(bH, [&](int I, int J, int K) {
+    for_each_cell(bH, [&](int I, int J, int K) {
       coarse.correction[ib](I, J, K) = coarse.field->Q[ib](I, J, K) - coarse.q0[ib](I, J, K);
     });
   }
@@ -151,7 +144,7 @@ void Multigrid::prolong_from(int l) {
     const Index3 c = coarsening_factors(bh);
     const auto& D = coarse.correction[ib];
     auto& Q = fine.field->Q[ib];
-    for_cells(bh, [&](int i, int j, int k) {
+    for_each_cell(bh, [&](int i, int j, int k) {
       const Index3 fc{i, j, k};
       Index3 parent, side;
       for (int d = 0; d < 3; ++d) {

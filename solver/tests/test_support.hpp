@@ -37,6 +37,20 @@ inline std::map<std::string, std::vector<double>> read_csv(const std::string& pa
   return cols;
 }
 
+// Rows of a history.csv without the wall-clock column (2nd): everything else of a
+// restarted run must match the uninterrupted one to the last digit.
+inline std::vector<std::string> history_rows(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> rows;
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    const auto a = line.find(','), b = line.find(',', a + 1);
+    rows.push_back(line.substr(0, a) + line.substr(b));
+  }
+  return rows;
+}
+
 // Iterate to a residual drop (or the iteration limit); returns the drop reached.
 inline Real converge(NewtonSolver& s, Real drop, int max_it) {
   Real first = -1.0, last = 1.0;

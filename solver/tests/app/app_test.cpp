@@ -157,19 +157,6 @@ CaseConfig small_plate() {
   return parse_case(t, "small_plate.toml", ".");
 }
 
-std::vector<std::string> history_rows(const std::string& path) {
-  std::ifstream in(path);
-  std::vector<std::string> rows;
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    // Drop the wall-clock column (2nd): everything else must match to the last digit.
-    const auto a = line.find(','), b = line.find(',', a + 1);
-    rows.push_back(line.substr(0, a) + line.substr(b));
-  }
-  return rows;
-}
-
 TEST(Restart, ContinuingFromRestartReproducesTheUninterruptedHistory) {
   const CaseConfig c = small_plate();
   const fs::path dir = fs::temp_directory_path() / "narwhal_restart_test";
@@ -188,8 +175,8 @@ TEST(Restart, ContinuingFromRestartReproducesTheUninterruptedHistory) {
   fs::copy_file(*second.restart, dir / "restart20.h5");
   second.restart = (dir / "restart20.h5").string();
   run_case(c, second);
-  const auto a = history_rows((dir / "full" / "history.csv").string());
-  const auto b = history_rows((dir / "split" / "history.csv").string());
+  const auto a = test::history_rows((dir / "full" / "history.csv").string());
+  const auto b = test::history_rows((dir / "split" / "history.csv").string());
   ASSERT_EQ(a.size(), 40u);
   ASSERT_EQ(b.size(), 40u);
   for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "iteration " << i + 1;
