@@ -163,6 +163,9 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   if (pro != "trilinear" && pro != "injection")
     r.error("solver.prolongation", "expected \"trilinear\" or \"injection\", got '" + pro + "'");
   mg.injection = pro == "injection";
+  mg.jacobian_interval = r.integer_or("solver.jacobian_interval", mg.jacobian_interval,
+                                      "cycles between reassemblies of the block matrices (multigrid)");
+  if (mg.jacobian_interval < 1) r.error("solver.jacobian_interval", "must be >= 1");
   mg.reuse_jacobian = r.boolean_or("solver.reuse_jacobian", mg.reuse_jacobian,
                                    "whether post-smoothing reuses the pre-smoothing Jacobians");
   if (mg.levels < 1) r.error("solver.multigrid_levels", "must be >= 1");

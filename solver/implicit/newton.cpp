@@ -283,7 +283,7 @@ IterationNorms NewtonSolver::iterate_with_cfl(Real cfl, bool reuse_jacobian) {
 
 IterationNorms NewtonSolver::relax_and_update(IterationNorms n, Real cfl, bool reuse_jacobian) {
   n.cfl = cfl;
-  const bool reuse = reuse_jacobian && assembled_ && cfl == assembled_cfl_;
+  const bool reuse = reuse_jacobian && assembled_ && (cfl == assembled_cfl_ || stale_cfl_ok_);
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
     if (!reuse) assemble_block(static_cast<int>(ib), cfl);
     dQ_[ib].fill(State::Zero());

@@ -56,6 +56,9 @@ class NewtonSolver {
   // assembly; for benchmarks and linear-solver studies.
   void sweeps_only(int pairs);
 
+  // Allow reusing matrices assembled at another CFL (Jacobian freezing across cycles).
+  void allow_stale_cfl(bool ok) { stale_cfl_ok_ = ok; }
+
   // SER CFL for a residual norm (§6.6); fixes the reference norm on first use.
   Real ser_cfl(Real norm);
 
@@ -91,6 +94,7 @@ class NewtonSolver {
   Real ref_norm_ = -1.0;
   const std::vector<GhostArray<State>>* forcing_ = nullptr;
   bool assembled_ = false;
+  bool stale_cfl_ok_ = false;
   Real assembled_cfl_ = 0.0;
   std::vector<GhostArray<State>> R_;
   std::vector<GhostArray<State>> dQ_;

@@ -166,15 +166,15 @@ void Multigrid::prolong_from(int l) {
   }
 }
 
-void Multigrid::visit(int l, Real cfl, const IterationNorms* fresh) {
+void Multigrid::visit(int l, Real cfl, const IterationNorms* fresh, bool frozen) {
   const int last = static_cast<int>(levels_.size()) - 1;
   if (l == last) {
-    smooth(l, l == 0 ? 1 : ms_.coarse_smooth, cfl, fresh);
+    smooth(l, l == 0 ? 1 : ms_.coarse_smooth, cfl, fresh, frozen);
     return;
   }
-  smooth(l, ms_.pre_smooth, cfl, fresh);
+  smooth(l, ms_.pre_smooth, cfl, fresh, frozen);
   restrict_to(l + 1);
-  for (int g = 0; g < ms_.gamma; ++g) visit(l + 1, cfl, nullptr);
+  for (int g = 0; g < ms_.gamma; ++g) visit(l + 1, cfl, nullptr, frozen);
   prolong_from(l + 1);
   smooth(l, ms_.post_smooth, cfl, nullptr, ms_.reuse_jacobian);
 }
@@ -183,7 +183,11 @@ IterationNorms Multigrid::cycle() {
   NewtonSolver& top = *levels_[0].solver;
   IterationNorms n = top.evaluate_residual();
   n.cfl = top.ser_cfl(n.total);
-  visit(0, n.cfl, &n);
+  // Jacobian freezing: between reassemblies every level keeps its block matrices.
+  const bool frozen = ms_.jacobian_interval > 1 && cycles_ % ms_.jacobian_interval != 0;
+  for (auto& l : levels_) l.solver->allow_stale_cfl(frozen);
+  visit(0, n.cfl, &n, frozen);
+  ++cycles_;
   return n;
 }
 

@@ -22,6 +22,7 @@ struct MultigridSettings {
   int coarse_smooth = 2;   // nu_c on the coarsest level
   bool injection = false;  // prolongation by injection instead of trilinear
   bool reuse_jacobian = true;  // post-smoothing keeps the pre-smoothing block matrices
+  int jacobian_interval = 1;   // block matrices reassembled every this many cycles
 };
 
 class Multigrid {
@@ -46,14 +47,16 @@ class Multigrid {
     std::unique_ptr<NewtonSolver> solver;
     std::vector<GhostArray<State>> forcing, q0, correction;
   };
-  void visit(int l, Real cfl, const IterationNorms* fresh);
+  void visit(int l, Real cfl, const IterationNorms* fresh, bool frozen);
   void smooth(int l, int iterations, Real cfl, const IterationNorms* fresh = nullptr, bool reuse = false);
+  bool frozen_ = false;
   void restrict_to(int l);
   void prolong_from(int l);
 
   std::vector<Level> levels_;
   MultigridSettings ms_;
   std::string note_;
+  int cycles_ = 0;
 };
 
 }  // namespace narwhal
