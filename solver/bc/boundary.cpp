@@ -90,7 +90,7 @@ State wall_flux(const Patch& p, const State& q1, const FaceGeom& face, bool high
 }
 
 void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
-  ghost_sweep(g, [&](int ib, const Patch& p) {
+  ghost_sweep(g, [&](int ib, const Patch& p, int m) {
     const Block& b = g.blocks[ib];
     auto& Q = f.Q[ib];
     auto& nu = f.nu[ib];
@@ -101,14 +101,12 @@ void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
       const auto& QD = f.Q[itf.donor];
       const auto& nuD = f.nu[itf.donor];
       for_each_in(r, [&](Index3 c) {
-        for (int m = 1; m <= kGhost; ++m) {
-          const Index3 gc = ghost_cell(b, p.side, c, m);
-          const Index3 dc = itf.map_cell(gc);
-          State q = QD(dc);
-          q.tail<3>() = itf.R * q.tail<3>();
-          Q(gc) = q;
-          nu(gc) = nuD(dc);
-        }
+        const Index3 gc = ghost_cell(b, p.side, c, m);
+        const Index3 dc = itf.map_cell(gc);
+        State q = QD(dc);
+        q.tail<3>() = itf.R * q.tail<3>();
+        Q(gc) = q;
+        nu(gc) = nuD(dc);
       });
       return;
     }
@@ -120,15 +118,13 @@ void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
       const Index3 c1 = interior_cell(b, p.side, c, 1);
       State qb = Q(c1);
       if (characteristic) qb = boundary_state(p, Q(c1), o, b.xf[d](boundary_face_index(b, p.side, c)), fp);
-      for (int m = 1; m <= kGhost; ++m) {
-        const Index3 cm = interior_cell(b, p.side, c, m);
-        const Index3 gc = ghost_cell(b, p.side, c, m);
-        // Dirichlet (verification) ghosts take the exact solution at the ghost
-        // centre: the extrapolated 2 Q_b - Q_m would make the boundary viscous
-        // gradient one-sided and cost accuracy in the boundary cells.
-        Q(gc) = p.type == BcType::Dirichlet ? fp.exact(b.xc(gc)) : ghost_value(p, Q(cm), qb, n);
-        nu(gc) = nu(cm);
-      }
+      const Index3 cm = interior_cell(b, p.side, c, m);
+      const Index3 gc = ghost_cell(b, p.side, c, m);
+      // Dirichlet (verification) ghosts take the exact solution at the ghost
+      // centre: the extrapolated 2 Q_b - Q_m would make the boundary viscous
+      // gradient one-sided and cost accuracy in the boundary cells.
+      Q(gc) = p.type == BcType::Dirichlet ? fp.exact(b.xc(gc)) : ghost_value(p, Q(cm), qb, n);
+      nu(gc) = nu(cm);
     });
   });
 }

@@ -120,7 +120,7 @@ void compute_metrics(Block& b) {
 }
 
 void fill_ghost_nodes(Grid& g) {
-  ghost_sweep(g, [&](int ib, const Patch& p) {
+  ghost_sweep(g, [&](int ib, const Patch& p, int m) {
     Block& b = g.blocks[ib];
     const int d = side_dir(p.side);
     const bool high = side_high(p.side);
@@ -140,17 +140,14 @@ void fill_ghost_nodes(Grid& g) {
     for (int k = (d == 2 ? 0 : lo[2]); k <= (d == 2 ? 0 : hi[2]); ++k)
       for (int j = (d == 1 ? 0 : lo[1]); j <= (d == 1 ? 0 : hi[1]); ++j)
         for (int i = (d == 0 ? 0 : lo[0]); i <= (d == 0 ? 0 : hi[0]); ++i) {
-          Index3 a{i, j, k};
-          for (int m = 1; m <= kGhost; ++m) {
-            Index3 gidx = a, in = a, on = a;
-            gidx[d] = plane + out * m;
-            in[d] = plane - out * m;
-            on[d] = plane;
-            if (donor) {
-              b.x(gidx) = itf->R * donor->x(itf->map_node(gidx)) + itf->t;
-            } else {
-              b.x(gidx) = 2.0 * b.x(on) - b.x(in);
-            }
+          Index3 gidx{i, j, k}, in{i, j, k}, on{i, j, k};
+          gidx[d] = plane + out * m;
+          in[d] = plane - out * m;
+          on[d] = plane;
+          if (donor) {
+            b.x(gidx) = itf->R * donor->x(itf->map_node(gidx)) + itf->t;
+          } else {
+            b.x(gidx) = 2.0 * b.x(on) - b.x(in);
           }
         }
   });

@@ -50,21 +50,22 @@ void for_each_in(const PatchRange& r, F&& f) {
       for (int i = r.lo[0]; i < r.hi[0]; ++i) f(Index3{i, j, k});
 }
 
-// Calls fill(block_index, patch) for every patch in the sweep order above.
+// Calls fill(block_index, patch, depth) for every patch in the sweep order above;
+// within a direction all depth-1 ghosts come before any depth-2 ghost, so that in a
+// block with a single cell in that direction a depth-2 ghost (which mirrors the
+// opposite side's depth-1 ghost) reads a value of this sweep.
 template <class F>
 void ghost_sweep(Grid& g, F&& fill) {
-  // One round suffices when every ghost depends only on interior cells of its own
-  // block: no interfaces, and at least kGhost cells in every direction (with fewer,
-  // a depth-2 ghost mirrors a ghost of the opposite side).
-  bool thin = false;
-  for (const Block& b : g.blocks)
-    for (int d = 0; d < 3; ++d) thin = thin || b.n(d) < kGhost;
-  const int rounds = (g.interfaces.empty() && !thin) ? 1 : 2;
+  // Without interfaces every ghost depends only on its own block's cells and on
+  // ghosts filled earlier in the sweep: one round suffices. Interfaces copy donor
+  // ghosts that the donor may fill later in a round, hence a second round.
+  const int rounds = g.interfaces.empty() ? 1 : 2;
   for (int round = 0; round < rounds; ++round)
     for (int d = 0; d < 3; ++d)
-      for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
-        for (const Patch& p : g.blocks[ib].patches)
-          if (side_dir(p.side) == d) fill(static_cast<int>(ib), p);
+      for (int m = 1; m <= kGhost; ++m)
+        for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+          for (const Patch& p : g.blocks[ib].patches)
+            if (side_dir(p.side) == d) fill(static_cast<int>(ib), p, m);
 }
 
 }  // namespace narwhal

@@ -10,34 +10,30 @@ namespace {
 
 // Ghosts of a coarse-grid correction (§7.3): homogeneous version of each BC.
 void fill_correction_ghosts(Grid& g, std::vector<GhostArray<State>>& dq) {
-  ghost_sweep(g, [&](int ib, const Patch& p) {
+  ghost_sweep(g, [&](int ib, const Patch& p, int m) {
     const Block& b = g.blocks[ib];
     auto& D = dq[ib];
     const PatchRange r = extended_cell_range(b, p);
     if (p.type == BcType::Interface) {
       const Interface& itf = g.interfaces[p.interface];
       for_each_in(r, [&](Index3 c) {
-        for (int m = 1; m <= kGhost; ++m) {
-          const Index3 gc = ghost_cell(b, p.side, c, m);
-          State q = dq[itf.donor](itf.map_cell(gc));
-          q.tail<3>() = itf.R * q.tail<3>();
-          D(gc) = q;
-        }
+        const Index3 gc = ghost_cell(b, p.side, c, m);
+        State q = dq[itf.donor](itf.map_cell(gc));
+        q.tail<3>() = itf.R * q.tail<3>();
+        D(gc) = q;
       });
       return;
     }
     for_each_in(r, [&](Index3 c) {
       const Vec3 n = outward_face(b, p.side, c).S.normalized();
-      for (int m = 1; m <= kGhost; ++m) {
-        State q = D(interior_cell(b, p.side, c, m));
-        switch (p.type) {
-          case BcType::Wall: q.tail<3>() = -q.tail<3>(); break;                      // Dirichlet velocity
-          case BcType::Dirichlet: q = -q; break;                                      // all components fixed
-          case BcType::Symmetry: q.tail<3>() -= 2.0 * n.dot(q.tail<3>()) * n; break;  // mirror
-          default: break;                                                             // characteristic: extrapolate
-        }
-        D(ghost_cell(b, p.side, c, m)) = q;
+      State q = D(interior_cell(b, p.side, c, m));
+      switch (p.type) {
+        case BcType::Wall: q.tail<3>() = -q.tail<3>(); break;                      // Dirichlet velocity
+        case BcType::Dirichlet: q = -q; break;                                      // all components fixed
+        case BcType::Symmetry: q.tail<3>() -= 2.0 * n.dot(q.tail<3>()) * n; break;  // mirror
+        default: break;                                                             // characteristic: extrapolate
       }
+      D(ghost_cell(b, p.side, c, m)) = q;
     });
   });
 }
