@@ -55,8 +55,8 @@ def load(history_dir):
 
 
 def regressions(entries, threshold=0.15, window=5):
-    """For the newest entry: per benchmark, (median now, rolling median before, ratio, flagged).
-    Only earlier entries from the same machine count."""
+    """For the newest entry: per benchmark, (median now, rolling median before, ratio, verdict)
+    with verdict "REGRESSION", "noisy" or "ok". Only earlier entries from the same machine count."""
     if not entries:
         return {}
     now = entries[-1]
@@ -65,9 +65,16 @@ def regressions(entries, threshold=0.15, window=5):
     for name, t in now["median_ns"].items():
         past = [e["median_ns"][name] for e in before if name in e["median_ns"]]
         if not past:
-            out[name] = (t, None, None, False)
+            out[name] = (t, None, None, "ok")
             continue
         ref = statistics.median(past)
         ratio = t / ref
-        out[name] = (t, ref, ratio, ratio > 1.0 + threshold)
+        noise = 3.0 * now.get("cv", {}).get(name, 0.0)
+        if ratio <= 1.0 + threshold:
+            verdict = "ok"
+        elif ratio <= 1.0 + noise:
+            verdict = "noisy"
+        else:
+            verdict = "REGRESSION"
+        out[name] = (t, ref, ratio, verdict)
     return out

@@ -178,13 +178,15 @@ def _benchmark_section(out, history_dir):
         return ""
     flags = perf.regressions(entries)
     rows = ""
-    for name, (now, ref, ratio, bad) in sorted(flags.items()):
-        verdict = "<span class=FAIL>REGRESSION</span>" if bad else "<span class=PASS>ok</span>"
+    for name, (now, ref, ratio, v) in sorted(flags.items()):
+        verdict = {"REGRESSION": "<span class=FAIL>REGRESSION</span>",
+                   "noisy": "<span class=why>slower, within 3x its noise</span>"}.get(v, "<span class=PASS>ok</span>")
         rows += (f"<tr><td>{html.escape(name)}</td><td class=num>{now / 1e6:.4g}</td>"
                  f"<td class=num>{_fmt(ref / 1e6 if ref else None)}</td><td class=num>{_fmt(ratio)}</td>"
                  f"<td>{verdict}</td></tr>")
     body = ("<h2>Kernel benchmarks</h2><p class=why>Newest run against the rolling median of up to five earlier "
-            "runs on the same machine; flagged when more than 15 % slower.</p>"
+            "runs on the same machine; flagged when more than 15 % slower, or more than three times the benchmark's own "
+            "coefficient of variation in this run when that is larger.</p>"
             "<table><tr><th>benchmark</th><th>median ms</th><th>rolling median ms</th><th>ratio</th><th></th></tr>"
             f"{rows}</table>")
     fig, ax = plt.subplots(figsize=(7.5, 4.2))

@@ -33,17 +33,25 @@ class History(unittest.TestCase):
         self.fill()
         perf.append(self.dir, gbench({"BM_Sweep": 13.0, "BM_Flux": 2.02}), "m1", "g++", "slow", when="20260109")
         flags = perf.regressions(perf.load(self.dir))
-        now, ref, ratio, bad = flags["BM_Sweep"]
-        self.assertTrue(bad)
+        now, ref, ratio, verdict = flags["BM_Sweep"]
+        self.assertEqual(verdict, "REGRESSION")
         self.assertAlmostEqual(ref * 1e-6, 10.1)
         self.assertAlmostEqual(ratio, 13.0 / 10.1)
-        self.assertFalse(flags["BM_Flux"][3])
+        self.assertEqual(flags["BM_Flux"][3], "ok")
 
     def test_noise_is_not_flagged_and_other_machines_do_not_count(self):
         self.fill()
         perf.append(self.dir, gbench({"BM_Sweep": 30.0}), "other", "g++", "x", when="20260108")
         perf.append(self.dir, gbench({"BM_Sweep": 10.9}), "m1", "g++", "ok", when="20260109")
-        self.assertFalse(perf.regressions(perf.load(self.dir))["BM_Sweep"][3])
+        self.assertEqual(perf.regressions(perf.load(self.dir))["BM_Sweep"][3], "ok")
+
+    def test_a_slowdown_inside_the_benchmarks_own_noise_is_marked_noisy(self):
+        self.fill()
+        data = gbench({"BM_Sweep": 13.0})
+        data["benchmarks"].append({"name": "BM_Sweep_cv", "run_name": "BM_Sweep", "aggregate_name": "cv",
+                                   "real_time": 0.12, "time_unit": "ms"})
+        perf.append(self.dir, data, "m1", "g++", "noisy", when="20260109")
+        self.assertEqual(perf.regressions(perf.load(self.dir))["BM_Sweep"][3], "noisy")
 
     def test_performance_page_shows_the_regression(self):
         self.fill()
