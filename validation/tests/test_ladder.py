@@ -72,5 +72,20 @@ class Ladder(unittest.TestCase):
         self.assertIn("PASSED   couette", p.stdout)
 
 
+    def test_a_rung_over_its_time_limit_is_reported_as_timeout(self):
+        cases = self.tmp / "cases"
+        shutil.copytree(ROOT / "validation" / "cases" / "couette", cases / "couette")
+        shutil.copytree(ROOT / "validation" / "cases" / "flat_plate_laminar", cases / "slow")
+        rung = cases / "slow" / "case.toml"
+        rung.write_text(rung.read_text().replace("timeout_s = 1800", "timeout_s = 1.0"))
+        p = self.run_ladder("--cases", str(cases))
+        self.assertNotEqual(p.returncode, 0)
+        self.assertIn("TIMEOUT  slow", p.stdout)
+        self.assertIn("PASSED   couette", p.stdout)
+        import json
+        res = json.loads((self.tmp / "reports" / "t" / "slow" / "results.json").read_text())
+        self.assertEqual(res["status"], "timeout")
+
+
 if __name__ == "__main__":
     unittest.main()
