@@ -4,15 +4,6 @@
 
 namespace narwhal {
 
-void FlowField::allocate(const Grid& g, const FlowParams& fp, const State& init) {
-  Q.clear();
-  nu.clear();
-  for (const auto& b : g.blocks) {
-    Q.emplace_back(b.ni, b.nj, b.nk, kGhost, init);
-    nu.emplace_back(b.ni, b.nj, b.nk, kGhost, 1.0 / fp.reynolds);
-  }
-}
-
 Index3 boundary_face_index(const Block& b, int side, Index3 c) {
   const int d = side_dir(side);
   c[d] = side_high(side) ? b.n(d) : 0;
@@ -102,11 +93,8 @@ void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
       const auto& nuD = f.nu[itf.donor];
       for_each_in(r, [&](Index3 c) {
         const Index3 gc = ghost_cell(b, p.side, c, m);
-        const Index3 dc = itf.map_cell(gc);
-        State q = QD(dc);
-        q.tail<3>() = itf.R * q.tail<3>();
-        Q(gc) = q;
-        nu(gc) = nuD(dc);
+        Q(gc) = donor_state(itf, QD, gc);
+        nu(gc) = nuD(itf.map_cell(gc));
       });
       return;
     }
@@ -140,9 +128,7 @@ void exchange_interfaces(const Grid& g, std::vector<GhostArray<State>>& field) {
       r.hi[side_dir(p.side)] = 1;
       for_each_in(r, [&](Index3 c) {
         const Index3 gc = ghost_cell(b, p.side, c, 1);
-        State q = field[itf.donor](itf.map_cell(gc));
-        q.tail<3>() = itf.R * q.tail<3>();
-        field[ib](gc) = q;
+        field[ib](gc) = donor_state(itf, field[itf.donor], gc);
       });
     }
   }

@@ -13,10 +13,6 @@
 namespace narwhal {
 
 namespace {
-inline Index3 add(Index3 a, const Index3& b, int s = 1) {
-  for (int m = 0; m < 3; ++m) a[m] += s * b[m];
-  return a;
-}
 
 // First-order boundary flux as a function of the first interior state (§5.0):
 // the ghost follows Q_1 through the BC, external data held fixed. The geometry of

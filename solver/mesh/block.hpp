@@ -87,6 +87,12 @@ inline Index3 unit(int d) {
   return e;
 }
 
+// a + s * b, componentwise (neighbour cells and faces).
+inline Index3 add(Index3 a, const Index3& b, int s = 1) {
+  for (int m = 0; m < 3; ++m) a[m] += s * b[m];
+  return a;
+}
+
 // Calls f(i, j, k) for every interior cell in memory order (i fastest).
 template <class F>
 void for_each_cell(const Block& b, F&& f) {

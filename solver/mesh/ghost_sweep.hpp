@@ -43,6 +43,14 @@ inline Index3 ghost_cell(const Block& b, int side, Index3 c, int m) {
   return c;
 }
 
+// The donor's value for ghost cell `gc` of an interface, velocity mapped by R
+// (identity for plain interfaces, a rotation for rotational periodicity).
+inline State donor_state(const Interface& itf, const GhostArray<State>& donor_field, const Index3& gc) {
+  State q = donor_field(itf.map_cell(gc));
+  q.tail<3>() = itf.R * q.tail<3>();
+  return q;
+}
+
 template <class F>
 void for_each_in(const PatchRange& r, F&& f) {
   for (int k = r.lo[2]; k < r.hi[2]; ++k)

@@ -18,9 +18,7 @@ void fill_correction_ghosts(Grid& g, std::vector<GhostArray<State>>& dq) {
       const Interface& itf = g.interfaces[p.interface];
       for_each_in(r, [&](Index3 c) {
         const Index3 gc = ghost_cell(b, p.side, c, m);
-        State q = dq[itf.donor](itf.map_cell(gc));
-        q.tail<3>() = itf.R * q.tail<3>();
-        D(gc) = q;
+        D(gc) = donor_state(itf, dq[itf.donor], gc);
       });
       return;
     }

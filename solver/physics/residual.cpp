@@ -6,10 +6,6 @@
 namespace narwhal {
 
 namespace {
-inline Index3 add(Index3 a, const Index3& b, int s = 1) {
-  for (int m = 0; m < 3; ++m) a[m] += s * b[m];
-  return a;
-}
 }  // namespace
 
 Real thin_layer_coefficient(const Block& b, const GhostArray<Real>& nu, int d, const Index3& f) {

@@ -51,6 +51,21 @@ inline std::vector<std::string> history_rows(const std::string& path) {
   return rows;
 }
 
+// Largest distance between an interface's ghost node (one layer out, at tangential
+// node `tangential`) and the donor node it copies; zero when connectivity is right.
+inline Real interface_ghost_node_mismatch(const Grid& g, int tangential) {
+  Real worst = 0.0;
+  for (const auto& itf : g.interfaces) {
+    const Block& a = g.blocks[itf.block];
+    const Block& d = g.blocks[itf.donor];
+    const int dir = side_dir(itf.side);
+    Index3 node{tangential, tangential, tangential};
+    node[dir] = side_high(itf.side) ? a.n(dir) + 1 : -1;
+    worst = std::max(worst, (a.x(node) - d.x(itf.map_node(node))).norm());
+  }
+  return worst;
+}
+
 // Iterate to a residual drop (or the iteration limit); returns the drop reached.
 inline Real converge(NewtonSolver& s, Real drop, int max_it) {
   Real first = -1.0, last = 1.0;
