@@ -12,6 +12,7 @@
 #include "io/cgns_writer.hpp"
 #include "io/monitors.hpp"
 #include "io/restart.hpp"
+#include "physics/planar.hpp"
 #include "physics/wall_forces.hpp"
 #include "version.hpp"
 
@@ -109,6 +110,10 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
 
   RestartInfo info;
   if (opt.restart) info = read_restart(*opt.restart, g, field);
+  if (c.solver.planar_shortcut) {
+    const std::string planar = mark_planar_blocks(g, field, fp);
+    if (!planar.empty()) fmt::print("narwhal: {}\n", planar);
+  }
   // Single grid: one Newton-SGS iteration per step; multigrid: one FAS cycle.
   std::unique_ptr<NewtonSolver> single;
   std::unique_ptr<Multigrid> mg;

@@ -98,6 +98,13 @@ void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
       });
       return;
     }
+    if (d == b.planar_dir) {  // the mirror of an in-plane state is the state itself (physics/planar.hpp)
+      for_each_in(r, [&](Index3 c) {
+        Q(ghost_cell(b, p.side, c, m)) = Q(interior_cell(b, p.side, c, m));
+        nu(ghost_cell(b, p.side, c, m)) = nu(interior_cell(b, p.side, c, m));
+      });
+      return;
+    }
     const bool characteristic = is_characteristic_bc(p.type);
     for_each_in(r, [&](Index3 c) {
       // Normals only where the BC uses them (symmetry, characteristic states).

@@ -146,6 +146,8 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   s.residual_drop = r.number_or("solver.residual_drop", s.residual_drop, "the residual reduction that ends the run");
   s.divergence_factor = r.number_or("solver.divergence_factor", s.divergence_factor,
                                     "the residual growth that counts as divergence");
+  s.planar_shortcut = r.boolean_or("solver.planar_shortcut", s.planar_shortcut,
+                                   "whether planar slabs skip their cancelling symmetry-plane faces");
   s.newton.cfl_start = r.number_or("solver.cfl_start", s.newton.cfl_start, "the initial CFL number");
   s.newton.cfl_max = r.number_or("solver.cfl_max", s.newton.cfl_max, "the largest CFL number");
   s.newton.sgs_iterations = r.integer_or("solver.sgs_iterations", s.newton.sgs_iterations,

@@ -48,6 +48,7 @@ struct SolverConfig {
   int max_iterations = 1000;
   Real residual_drop = 1e-10;      // converged when |R| / |R_0| falls below
   Real divergence_factor = 1e4;    // diverged when |R| / |R_0| exceeds
+  bool planar_shortcut = true;     // skip the cancelling symmetry faces of planar slabs (physics/planar.hpp)
 };
 
 struct OutputConfig {

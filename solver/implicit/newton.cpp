@@ -182,6 +182,7 @@ void NewtonSolver::assemble_block(int ib, Real cfl) {
   // Physical boundary faces: replace by the derivative through the BC (§5.0).
   for (const Patch& p : b.patches) {
     const int d = side_dir(p.side);
+    if (d == b.planar_dir) continue;  // no coupling across the symmetry planes of a planar slab
     PatchRange r{p.lo, p.hi};
     r.lo[d] = 0;
     r.hi[d] = 1;
@@ -211,6 +212,7 @@ void NewtonSolver::assemble_block(int ib, Real cfl) {
         Mat4 D = Mat4::Zero();
         Real lambda = 0.0, s2 = 0.0;
         for (int d = 0; d < 3; ++d) {
+          if (d == b.planar_dir) continue;  // the 2-D problem's own spectral radius
           const Index3 up = add(c, unit(d));
           D += AL_[ib][d](up) - AR_[ib][d](c);
           const Vec3 Sbar = 0.5 * (b.S[d](c) + b.S[d](up));
@@ -237,6 +239,7 @@ void NewtonSolver::sweep_block(int ib, bool forward) {
     const Index3 c{i, j, k};
     State r = -R(c);
     for (int d = 0; d < 3; ++d) {
+      if (d == b.planar_dir) continue;
       const Index3 e = unit(d);
       const Index3 up = add(c, e), dn = add(c, e, -1);
       r.noalias() -= AR[d](up) * dQ(up);

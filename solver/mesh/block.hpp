@@ -47,6 +47,11 @@ struct Block {
   GhostArray<Real> vol;                // cell volumes (§2.3)
   GhostArray<Vec3> xc;                 // cell centres: mean of the 8 corner nodes (§2.1)
   std::vector<Patch> patches;
+  // Direction in which the block is a one-cell slab between parallel symmetry
+  // planes carrying no flow across them (a planar 2-D problem), or -1. Set only
+  // by mark_planar_blocks (physics/planar.hpp); the solver then skips those
+  // faces, whose fluxes cancel exactly.
+  int planar_dir = -1;
 
   Block() = default;
   Block(std::string block_name, int ci, int cj, int ck);

@@ -34,6 +34,7 @@ State viscous_face_flux(const Block& b, const GhostArray<State>& Q, const GhostA
   Vec3 GS = dun * S.squaredNorm();
   Vec3 GtS = S * dun.dot(S);
   for (int t : {(d + 1) % 3, (d + 2) % 3}) {
+    if (t == b.planar_dir) continue;  // mirror ghosts, in-plane S: the term is exactly zero (physics/planar.hpp)
     const Index3 et = unit(t);
     const Vec3 du = 0.25 * (Q(add(cL, et)).tail<3>() + Q(add(cR, et)).tail<3>() - Q(add(cL, et, -1)).tail<3>() -
                             Q(add(cR, et, -1)).tail<3>());
@@ -107,6 +108,7 @@ void compute_residual(const Grid& g, const FlowField& fl, const FlowParams& fp, 
           }
     }
     for (const Patch& p : b.patches) {
+      if (side_dir(p.side) == b.planar_dir) continue;  // the two symmetry planes cancel (physics/planar.hpp)
       PatchRange r{p.lo, p.hi};
       r.lo[side_dir(p.side)] = 0;
       r.hi[side_dir(p.side)] = 1;
