@@ -1,15 +1,27 @@
 #!/usr/bin/python3
 """Peer benchmark: the laminar flat plate (Re_L = 1e5) by OpenFOAM's simpleFoam and by
-Narwhal, on the same grid, in the same run. Reports each code's Cf error against
-Blasius over 0.1 < x < 0.9 and its wall time; writes peer.json (read by the report).
+Narwhal, in the same run. Reports each code's Cf error against Blasius over
+0.1 < x < 0.9 and its wall time; writes peer.json (read by the report).
+
+The question (issue 4, bar 4): does Narwhal reach OpenFOAM's Cf accuracy on the R1
+grid, on a grid of the same size or coarser, in at most a fifth of OpenFOAM's wall
+time? Protocol:
+- OpenFOAM runs the R1 grid (and, for comparison on equal terms, Narwhal's grid)
+  until every initial residual is below 1e-6 — its accuracy at that point is what
+  Narwhal must reach (a looser 1e-5 costs OpenFOAM accuracy, a tighter 1e-7 time).
+- Narwhal runs the R1 grid with half the streamwise cells, multigrid, stopped at a
+  residual drop of 1e-6; the run to 1e-10 on the same grid measures the iteration
+  error left in its Cf.
+- Wall times are of the whole solver process (start-up and output included) for
+  both codes, medians of --repeat interleaved repetitions; the ratio of each
+  repetition is reported too, since the machine is noisy.
 
 OpenFOAM (Debian package `openfoam`) is installed by ci/nightly only, never by CI.
 The OpenFOAM case is generated here from the Narwhal case's grid parameters: two
 blocks (run-up, plate) with the same cell counts and geometric gradings, second-order
-schemes (linearUpwind for convection, linear for diffusion), SIMPLEC, run until every
-initial residual is below 1e-6.
+schemes (linearUpwind for convection, linear for diffusion), SIMPLEC with GAMG.
 
-  benchmarks/peer/openfoam_flat_plate.py [--narwhal build/solver/narwhal] [--out DIR]
+  benchmarks/peer/openfoam_flat_plate.py [--narwhal build/solver/narwhal] [--out DIR] [--repeat N]
 """
 import argparse
 import json
@@ -190,10 +202,57 @@ def blasius_fpp0():
     raise RuntimeError("no Blasius data")
 
 
+def median(xs):
+    xs = sorted(xs)
+    n = len(xs)
+    return xs[n // 2] if n % 2 else 0.5 * (xs[n // 2 - 1] + xs[n // 2])
+
+
+def narwhal_cf(rd):
+    rows = [l.split(",") for l in (rd / "surface_plate.csv").read_text().splitlines()[2:]]
+    return [float(r[0]) for r in rows], [float(r[8]) for r in rows]
+
+
+def run_openfoam(d, g, re_l):
+    """One simpleFoam run from scratch; returns (wall seconds of simpleFoam, x, Cf, iterations)."""
+    shutil.rmtree(d, ignore_errors=True)
+    make_case(d, g, 1.0 / re_l)
+    run(["blockMesh"], d, d / "log.blockMesh")
+    t0 = time.monotonic()
+    run(["simpleFoam"], d, d / "log.simpleFoam")
+    t = time.monotonic() - t0
+    run(["simpleFoam", "-postProcess", "-func", "wallShearStress", "-latestTime"], d, d / "log.wss")
+    run(["postProcess", "-func", "writeCellCentres", "-latestTime"], d, d / "log.centres")
+    xs, cf, iters = openfoam_cf(d)
+    return t, xs, cf, iters
+
+
+def run_narwhal(narwhal, rd, sets):
+    """One Narwhal run; returns (wall seconds of the whole process, x, Cf, run.json)."""
+    cmd = [narwhal, "run", str(CASE), "--out", str(rd)]
+    for k, v in sets.items():
+        cmd += ["--set", f"{k}={v}"]
+    t0 = time.monotonic()
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    t = time.monotonic() - t0
+    xs, cf = narwhal_cf(rd)
+    return t, xs, cf, json.loads((rd / "run.json").read_text()), " ".join(cmd)
+
+
+# The grid Narwhal uses for the time-to-accuracy comparison: the R1 grid with half
+# the streamwise cells (the same stretching law, twice the leading-edge spacing).
+COARSE_X = {"cells_runup": 16, "cells_plate": 48, "dx_leading_edge": 4.0e-3}
+MULTIGRID = {"solver.multigrid_levels": 3, "solver.multigrid_cycle": '"V"'}
+# A residual drop of 1e-6 leaves Cf within ~1e-4 (relative) of the 1e-10 answer —
+# measured in every run (iteration_error below), far under the 0.1 % errors compared.
+PEER_STOP = {"solver.residual_drop": 1.0e-6}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--narwhal", default=str(ROOT / "build" / "solver" / "narwhal"))
     ap.add_argument("--out", default=str(ROOT / "reports" / "peer"))
+    ap.add_argument("--repeat", type=int, default=3, help="timed repetitions per run (medians are reported)")
     args = ap.parse_args()
     if not shutil.which("simpleFoam"):
         print("openfoam_flat_plate: simpleFoam not found (apt-get install openfoam; ci/nightly does)", file=sys.stderr)
@@ -204,39 +263,61 @@ def main():
     with open(CASE, "rb") as f:
         case = tomllib.load(f)
     g, re_l = case["grid"], case["flow"]["reynolds"]
+    g_coarse = dict(g, **COARSE_X)
     fpp0 = blasius_fpp0()
-    cells = (g["cells_runup"] + g["cells_plate"]) * g["cells_normal"]
+    cells = lambda gg: (gg["cells_runup"] + gg["cells_plate"]) * gg["cells_normal"]
+    grid_sets = {f"grid.{k}": v for k, v in COARSE_X.items()}
 
-    of = out / "openfoam"
-    make_case(of, g, 1.0 / re_l)
-    run(["blockMesh"], of, of / "log.blockMesh")
-    t0 = time.monotonic()
-    run(["simpleFoam"], of, of / "log.simpleFoam")
-    t_of = time.monotonic() - t0
-    run(["simpleFoam", "-postProcess", "-func", "wallShearStress", "-latestTime"], of, of / "log.wss")
-    run(["postProcess", "-func", "writeCellCentres", "-latestTime"], of, of / "log.centres")
-    xs, cf, iters = openfoam_cf(of)
-    of_max, of_rms, n_of = cf_error(xs, cf, re_l, fpp0)
-
-    results = {"cells": cells, "openfoam": {"wall_seconds": t_of, "iterations": iters, "cf_max_error": of_max,
-                                            "cf_rms_error": of_rms, "faces": n_of}}
-    for label, sets in (("narwhal_multigrid", ["solver.multigrid_levels=4", 'solver.multigrid_cycle="V"']),
-                        ("narwhal_single_grid", [])):
-        rd = out / label
-        cmd = [args.narwhal, "run", str(CASE), "--out", str(rd)]
-        for s in sets:
-            cmd += ["--set", s]
-        t0 = time.monotonic()
-        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-        t = time.monotonic() - t0
-        rows = [l.split(",") for l in (rd / "surface_plate.csv").read_text().splitlines()[2:]]
-        n_max, n_rms, n_n = cf_error([float(r[0]) for r in rows], [float(r[8]) for r in rows], re_l, fpp0)
-        runj = json.loads((rd / "run.json").read_text())
-        results[label] = {"wall_seconds": t, "iterations": runj["iterations"], "cf_max_error": n_max,
-                          "cf_rms_error": n_rms, "faces": n_n, "residual_drop": runj["residual_drop"]}
-    best = results["narwhal_multigrid"]
-    results["narwhal_reaches_openfoam_accuracy"] = best["cf_max_error"] <= of_max and best["cf_rms_error"] <= of_rms
-    results["time_ratio_openfoam_over_narwhal"] = t_of / best["wall_seconds"]
+    # label -> (description, what runs it); the timed ones are repeated, interleaved.
+    runs = {
+        "openfoam": ("OpenFOAM simpleFoam (SIMPLEC, GAMG, linearUpwind), R1 grid, residuals 1e-6",
+                     lambda d: run_openfoam(d, g, re_l), cells(g)),
+        "openfoam_coarse": ("OpenFOAM simpleFoam, Narwhal's coarser grid, residuals 1e-6",
+                            lambda d: run_openfoam(d, g_coarse, re_l), cells(g_coarse)),
+        "narwhal_peer": ("Narwhal, coarser grid, 3-level V-cycles, residual drop 1e-6",
+                         lambda d: run_narwhal(args.narwhal, d, {**grid_sets, **MULTIGRID, **PEER_STOP}),
+                         cells(g_coarse)),
+        "narwhal_multigrid": ("Narwhal, R1 grid, 4-level V-cycles, residual drop 1e-10",
+                              lambda d: run_narwhal(args.narwhal, d, {"solver.multigrid_levels": 4,
+                                                                      "solver.multigrid_cycle": '"V"'}), cells(g)),
+    }
+    once = {
+        "narwhal_peer_converged": ("Narwhal, coarser grid, residual drop 1e-10 (iteration-error check)",
+                                   lambda d: run_narwhal(args.narwhal, d, {**grid_sets, **MULTIGRID}), cells(g_coarse)),
+        "narwhal_single_grid": ("Narwhal, R1 grid, single grid, residual drop 1e-10",
+                                lambda d: run_narwhal(args.narwhal, d, {}), cells(g)),
+    }
+    results = {"repeat": args.repeat, "runs": {}}
+    times = {k: [] for k in runs}
+    last = {}
+    for rep in range(args.repeat):
+        for label, (_, fn, _) in runs.items():
+            r = fn(out / label)
+            times[label].append(r[0])
+            last[label] = r
+    for label, (_, fn, _) in once.items():
+        r = fn(out / label)
+        times[label] = [r[0]]
+        last[label] = r
+    for label, (desc, _, ncells) in {**runs, **once}.items():
+        r = last[label]
+        mx, rms, n = cf_error(r[1], r[2], re_l, fpp0)
+        entry = {"description": desc, "cells": ncells, "wall_seconds": median(times[label]),
+                 "wall_seconds_all": times[label], "cf_max_error": mx, "cf_rms_error": rms, "faces": n,
+                 "cf_error_profile": [[x, c / (2.0 * fpp0 / math.sqrt(re_l * x)) - 1.0]
+                                      for x, c in zip(r[1], r[2]) if 0.1 < x < 0.9]}
+        if label.startswith("openfoam"):
+            entry["iterations"] = r[3]
+        else:
+            entry.update(iterations=r[3]["iterations"], residual_drop=r[3]["residual_drop"], command=r[4])
+        results["runs"][label] = entry
+    conv = last["narwhal_peer_converged"][2]
+    results["runs"]["narwhal_peer"]["iteration_error"] = max(abs(a / b - 1.0) for a, b in zip(last["narwhal_peer"][2], conv))
+    of, nw = results["runs"]["openfoam"], results["runs"]["narwhal_peer"]
+    results["narwhal_reaches_openfoam_accuracy"] = (nw["cells"] <= of["cells"] and nw["cf_max_error"] <= of["cf_max_error"]
+                                                   and nw["cf_rms_error"] <= of["cf_rms_error"])
+    results["time_ratio_openfoam_over_narwhal"] = of["wall_seconds"] / nw["wall_seconds"]
+    results["time_ratios_same_repetition"] = [a / b for a, b in zip(times["openfoam"], times["narwhal_peer"])]
     (out / "peer.json").write_text(json.dumps(results, indent=1))
     print(json.dumps(results, indent=1))
     return 0

@@ -206,28 +206,46 @@ def _benchmark_section(out, history_dir):
     return body + "<img src='bench_history.png' alt='benchmark history'>"
 
 
-def _peer_section(reports):
+def _peer_section(reports, out):
     """OpenFOAM vs Narwhal on the laminar flat plate (benchmarks/peer), when measured."""
     pj = Path(reports) / "peer" / "peer.json"
     if not pj.exists():
         return ""
     p = json.loads(pj.read_text())
+    runs = p.get("runs")
+    if runs is None:  # an older peer.json: say so rather than guess its layout
+        return "<h2>Peer benchmark</h2><p class=why>peer.json predates the current format; rerun benchmarks/peer.</p>"
     rows = ""
-    for key, label in (("openfoam", "OpenFOAM simpleFoam (SIMPLEC, GAMG, linearUpwind)"),
-                       ("narwhal_multigrid", "Narwhal, 4-level V-cycle multigrid"),
-                       ("narwhal_single_grid", "Narwhal, single grid")):
-        r = p.get(key)
-        if r:
-            rows += (f"<tr><td>{label}</td><td class=num>{100 * r['cf_max_error']:.3f}</td>"
-                     f"<td class=num>{100 * r['cf_rms_error']:.3f}</td><td class=num>{r['iterations']}</td>"
-                     f"<td class=num>{r['wall_seconds']:.2f}</td></tr>")
+    for key, r in runs.items():
+        rows += (f"<tr><td>{html.escape(r['description'])}</td><td class=num>{r['cells']}</td>"
+                 f"<td class=num>{100 * r['cf_max_error']:.3f}</td><td class=num>{100 * r['cf_rms_error']:.3f}</td>"
+                 f"<td class=num>{r['iterations']}</td><td class=num>{r['wall_seconds']:.2f}</td>"
+                 f"<td class=num>{len(r.get('wall_seconds_all', [1]))}</td></tr>")
+    fig, ax = plt.subplots(figsize=(7.5, 4.0))
+    for key, r in runs.items():
+        prof = r.get("cf_error_profile")
+        if prof and key in ("openfoam", "openfoam_coarse", "narwhal_peer", "narwhal_multigrid"):
+            ax.plot([q[0] for q in prof], [100 * q[1] for q in prof], "o-" if "openfoam" in key else "s-",
+                    ms=3, label=f"{key} ({r['cells']} cells)")
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.set_xlabel("x / L")
+    ax.set_ylabel("Cf / Cf_Blasius - 1 [%]")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / "peer_cf_error.png", dpi=90)
+    plt.close(fig)
+    nw = runs.get("narwhal_peer", {})
     verdict = "yes" if p.get("narwhal_reaches_openfoam_accuracy") else "no"
-    return (f"<h2>Peer benchmark: laminar flat plate, {p['cells']} cells, same grid, same run</h2>"
-            "<table><tr><th>code</th><th>max |Cf error| %</th><th>RMS Cf error %</th><th>iterations</th>"
-            f"<th>wall s</th></tr>{rows}</table>"
-            f"<p class=why>Narwhal reaches OpenFOAM's Cf accuracy (max and RMS over 0.1 &lt; x &lt; 0.9): {verdict}; "
-            f"OpenFOAM wall time / Narwhal multigrid wall time: {p['time_ratio_openfoam_over_narwhal']:.2f} "
-            "(target: at least 5).</p>")
+    ratios = ", ".join(f"{x:.1f}" for x in p.get("time_ratios_same_repetition", []))
+    return (f"<h2>Peer benchmark: laminar flat plate, OpenFOAM and Narwhal in the same run</h2>"
+            "<table><tr><th>run</th><th>cells</th><th>max |Cf error| %</th><th>RMS Cf error %</th><th>iterations</th>"
+            f"<th>median wall s</th><th>repetitions</th></tr>{rows}</table>"
+            "<img src='peer_cf_error.png' alt='Cf error against Blasius, both codes'>"
+            f"<p class=why>Narwhal (coarser or equal grid) reaches OpenFOAM's R1 Cf accuracy, max and RMS over "
+            f"0.1 &lt; x &lt; 0.9: {verdict}; OpenFOAM wall time / Narwhal wall time (medians): "
+            f"{p['time_ratio_openfoam_over_narwhal']:.2f}, per repetition {ratios} (target: at least 5). "
+            f"Iteration error left in Narwhal's Cf at its stop: {nw.get('iteration_error', float('nan')):.1e} "
+            "(relative, against its run to a 1e-10 drop).</p>")
 
 
 def _perf_page(out, reports, results, history_dir=None):
@@ -260,7 +278,7 @@ def _perf_page(out, reports, results, history_dir=None):
         fig.savefig(out / "perf_history.png", dpi=90)
         plt.close(fig)
         body += "<h2>History</h2><img src='perf_history.png' alt='performance history'>"
-    body += _peer_section(reports)
+    body += _peer_section(reports, out)
     body += _benchmark_section(out, history_dir)
     body += ("<p class=why>Wall times on a shared 2-core machine are noisy; compare ratios and medians, "
              "never a single run.</p>")
