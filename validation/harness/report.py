@@ -32,6 +32,13 @@ window.addEventListener('load', function () {
 </script>"""
 
 
+def _save(fig, path):
+    """Every report figure: tight layout, 90 dpi PNG, figure closed."""
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
 def _page(title, body, depth=0):
     up = "../" * depth
     nav = f'<nav><a href="{up}index.html">Summary</a><a href="{up}perf.html">Performance</a></nav>'
@@ -80,9 +87,7 @@ def _plot_check(check, path):
             ax.set_title(check["name"])
         ax.set_xlabel("grid spacing h")
         ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    _save(fig, path)
     return True
 
 
@@ -107,9 +112,7 @@ def _plot_residuals(rung_dir, res, path):
     ax.set_title("residual history")
     if len(res.get("runs", [])) <= 8:
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    _save(fig, path)
     return True
 
 
@@ -200,9 +203,7 @@ def _benchmark_section(out, history_dir):
     ax.set_ylabel("median time / first run")
     ax.set_title("kernel benchmark history")
     ax.legend(fontsize=6)
-    fig.tight_layout()
-    fig.savefig(out / "bench_history.png", dpi=90)
-    plt.close(fig)
+    _save(fig, out / "bench_history.png")
     return body + "<img src='bench_history.png' alt='benchmark history'>"
 
 
@@ -231,9 +232,7 @@ def _peer_section(reports, out):
     ax.set_xlabel("x / L")
     ax.set_ylabel("Cf / Cf_Blasius - 1 [%]")
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out / "peer_cf_error.png", dpi=90)
-    plt.close(fig)
+    _save(fig, out / "peer_cf_error.png")
     nw = runs.get("narwhal_peer", {})
     verdict = "yes" if p.get("narwhal_reaches_openfoam_accuracy") else "no"
     ratios = ", ".join(f"{x:.1f}" for x in p.get("time_ratios_same_repetition", []))
@@ -274,9 +273,7 @@ def _perf_page(out, reports, results, history_dir=None):
         ax.set_ylabel("rung wall time [s]")
         ax.set_title(f"wall time per rung, tier {tier} (reports in {Path(reports).name}/)")
         ax.legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(out / "perf_history.png", dpi=90)
-        plt.close(fig)
+        _save(fig, out / "perf_history.png")
         body += "<h2>History</h2><img src='perf_history.png' alt='performance history'>"
     body += _peer_section(reports, out)
     body += _benchmark_section(out, history_dir)
