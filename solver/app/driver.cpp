@@ -14,6 +14,7 @@
 #include "io/restart.hpp"
 #include "physics/planar.hpp"
 #include "physics/wall_forces.hpp"
+#include "turbulence/model.hpp"
 #include "version.hpp"
 
 namespace narwhal {
@@ -125,13 +126,35 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   }
   NewtonSolver& solver = mg ? mg->finest() : *single;
   if (opt.restart) solver.set_reference_norm(info.reference_norm);
-  auto step = [&] { return mg ? mg->cycle() : solver.iterate(); };
+  // Turbulence: loosely coupled, one model update after every mean-flow step (§8.6).
+  std::unique_ptr<TurbulenceModel> turb = make_turbulence_model(c.turbulence, g);
+  if (turb) {
+    turb->initialize(g, field, fp, opt.restart.has_value());
+    fill_ghosts(g, field, fp);
+    turb->update_viscosity(g, field, fp);
+  }
+  TurbulenceNorms turb_norms;
+  auto step = [&] {
+    const IterationNorms n = mg ? mg->cycle() : solver.iterate();
+    if (turb) turb_norms = turb->advance(g, field, fp, n.cfl);
+    return n;
+  };
 
   // Wall groups are known from the patches; forces appear in the history per group.
   fill_ghosts(g, field, fp);
   std::vector<std::string> groups;
   for (const auto& [name, list] : wall_faces(g, field, fp)) groups.push_back(name);
-  HistoryWriter history((fs::path(opt.out_dir) / "history.csv").string(), groups, opt.restart.has_value());
+  std::vector<std::string> turb_names;
+  for (int m = 0; turb && m < turb->num_variables(); ++m) turb_names.push_back(turb->variable_name(m));
+  HistoryWriter history((fs::path(opt.out_dir) / "history.csv").string(), groups, opt.restart.has_value(), turb_names);
+  std::vector<Real> turb_res(turb_names.size(), 0.0), turb_ref(turb_names.size(), -1.0);
+  for (std::size_t m = 0; m < turb_ref.size() && opt.restart; ++m) turb_ref[m] = info.turbulence_reference[m];
+  auto restart_info = [&](int it, Real wall) {
+    RestartInfo r{it, solver.reference_norm(), wall, {-1.0, -1.0}};
+    for (std::size_t m = 0; m < turb_ref.size(); ++m) r.turbulence_reference[m] = turb_ref[m];
+    return r;
+  };
+  Real turb_drop = 0.0;  // largest drop of the model's residuals
 
   const int max_it = opt.max_iterations.value_or(c.solver.max_iterations);
   RunSummary s;
@@ -153,7 +176,13 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
       last = step();  // residual of the state entering this iteration (or cycle), then the update
       wall_faces(g, field, fp, faces);
       all_forces(faces, c.output, forces);
-      history.write(it, elapsed(), last, forces);
+      turb_drop = 0.0;
+      for (std::size_t m = 0; m < turb_res.size(); ++m) {
+        turb_res[m] = turb_norms.l2[m];
+        if (turb_ref[m] <= 0.0) turb_ref[m] = turb_res[m];
+        turb_drop = std::max(turb_drop, turb_res[m] / std::max(turb_ref[m], 1e-300));
+      }
+      history.write(it, elapsed(), last, forces, turb_res);
       s.iterations = it;
       s.residual_drop = last.total / solver.reference_norm();
       if (!std::isfinite(last.total) || s.residual_drop > c.solver.divergence_factor) {
@@ -162,14 +191,14 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
                                 s.residual_drop, c.solver.divergence_factor, solver.describe_largest_residual());
         break;
       }
-      if (s.residual_drop < c.solver.residual_drop) {
+      if (s.residual_drop < c.solver.residual_drop && turb_drop < c.solver.residual_drop) {
         s.status = RunStatus::Converged;
         break;
       }
       if (c.output.restart_interval > 0 && it % c.output.restart_interval == 0) {
         solver.check_finite();
         history.flush();
-        write_restart(restart_path, g, field, {it, solver.reference_norm(), elapsed()}, c.text);
+        write_restart(restart_path, g, field, restart_info(it, elapsed()), c.text);
       }
       if (opt.progress && (clock::now() - last_print > std::chrono::milliseconds(200))) {
         last_print = clock::now();
@@ -187,16 +216,22 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
     s.status = RunStatus::Diverged;
     s.message = fmt::format("iteration {}: {}", s.iterations + 1, e.what());
   }
+  if (s.status == RunStatus::MaxIterations && s.iterations > 0)
+    s.message = fmt::format("not converged (mean-flow drop {:.2e}{}); largest residual at {}", s.residual_drop,
+                            turb ? fmt::format(", turbulence drop {:.2e}", turb_drop) : std::string(),
+                            solver.describe_largest_residual());
   if (opt.progress) fmt::print("\n");
   s.wall_seconds = elapsed();
   history.flush();
   if (s.status != RunStatus::Diverged) {
-    write_restart(restart_path, g, field, {s.iterations, solver.reference_norm(), s.wall_seconds}, c.text);
+    write_restart(restart_path, g, field, restart_info(s.iterations, s.wall_seconds), c.text);
     fill_ghosts(g, field, fp);
     wall_faces(g, field, fp, faces);
     for (const auto& [name, list] : faces)
       write_surface_csv((fs::path(opt.out_dir) / fmt::format("surface_{}.csv", name)).string(), list);
-    write_cgns_solution((fs::path(opt.out_dir) / "solution.cgns").string(), g, field);
+    std::vector<std::string> cgns_turb;
+    for (int m = 0; turb && m < turb->num_variables(); ++m) cgns_turb.push_back(turb->cgns_name(m));
+    write_cgns_solution((fs::path(opt.out_dir) / "solution.cgns").string(), g, field, cgns_turb, 1.0 / fp.reynolds);
   } else {
     s.message += fs::exists(restart_path) ? "; the last good restart.h5 is kept" : "; no restart was written before";
   }

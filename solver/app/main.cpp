@@ -6,6 +6,7 @@
 
 #include "app/driver.hpp"
 #include "core/error.hpp"
+#include "turbulence/model.hpp"
 #include "version.hpp"
 
 using namespace narwhal;
@@ -55,8 +56,14 @@ int main(int argc, char** argv) {
   check->add_option("case", check_path, "case file (TOML)")->required();
   check->add_option("--set", overrides, "override a case key (value in TOML syntax)");
 
+  auto* list_models = app.add_subcommand("list-models", "list the turbulence models (turbulence.model = \"name\")");
+
   CLI11_PARSE(app, argc, argv);
   try {
+    if (*list_models) {
+      for (const auto& m : turbulence_models()) fmt::print("{:<10} {}\n", m.name, m.summary);
+      return 0;
+    }
     if (*check) return check_case(check_path, overrides);
     RunOptions opt;
     opt.out_dir = out_dir;

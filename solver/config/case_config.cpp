@@ -1,5 +1,7 @@
 #include "config/case_config.hpp"
 
+#include "multigrid/coarsen.hpp"
+
 #include <filesystem>
 
 #include <Eigen/Geometry>
@@ -8,6 +10,7 @@
 #include "core/error.hpp"
 #include "mesh/connectivity.hpp"
 #include "mesh/plot3d.hpp"
+#include "multigrid/coarsen.hpp"
 
 namespace narwhal {
 namespace {
@@ -88,6 +91,8 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
     for (int d = 0; d < 3; ++d) g.split[d] = static_cast<int>(s[d]);
   }
   g.split_rotate = r.boolean_or("grid.split_rotate", false, "whether split blocks get rotated index orientations");
+  g.coarsen = r.integer_or("grid.coarsen", 0, "how many times every other grid line is removed (nested families)");
+  if (g.coarsen < 0) r.error("grid.coarsen", "must be >= 0");
 }
 
 }  // namespace
@@ -174,6 +179,24 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   if (s.max_iterations < 0) r.error("solver.max_iterations", "must be >= 0");
   if (s.newton.sgs_iterations < 1) r.error("solver.sgs_iterations", "must be >= 1");
 
+  auto& t = c.turbulence;
+  std::string valid_models;
+  for (const auto& m : turbulence_models()) valid_models += (valid_models.empty() ? "" : ", ") + m.name;
+  t.model = r.string_or("turbulence.model", t.model, "the turbulence model (" + valid_models + ")");
+  bool known_model = false;
+  for (const auto& m : turbulence_models()) known_model = known_model || m.name == t.model;
+  if (!known_model) r.error("turbulence.model", "expected one of " + valid_models + ", got '" + t.model + "'");
+  t.freestream_nut_ratio = r.number_or("turbulence.freestream_nut_ratio", t.freestream_nut_ratio,
+                                       "the free-stream eddy-viscosity ratio (SA: nu_tilde/nu)");
+  t.intensity = r.number_or("turbulence.intensity", t.intensity, "the free-stream turbulence intensity");
+  t.iterations = r.integer_or("turbulence.iterations", t.iterations, "model iterations per mean-flow step");
+  t.sgs_iterations = r.integer_or("turbulence.sgs_iterations", t.sgs_iterations,
+                                  "symmetric Gauss-Seidel pairs per model iteration");
+  t.cfl_max = r.number_or("turbulence.cfl_max", t.cfl_max, "the cap of the model's pseudo-time CFL number");
+  if (t.freestream_nut_ratio <= 0.0) r.error("turbulence.freestream_nut_ratio", "must be > 0");
+  if (t.iterations < 1) r.error("turbulence.iterations", "must be >= 1");
+  if (t.sgs_iterations < 1) r.error("turbulence.sgs_iterations", "must be >= 1");
+
   auto& o = c.output;
   o.restart_interval = r.integer_or("output.restart_interval", o.restart_interval, "iterations between restart files");
   o.reference_area = r.number_or("output.reference_area", o.reference_area, "the force reference area");
@@ -226,6 +249,11 @@ Grid build_grid(const CaseConfig& c) {
     connect_periodic(g, p.a, p.b, R, p.translation);
   }
   finalize_grid(g);
+  for (int level = 0; level < gc.coarsen; ++level) {
+    const std::string why = why_not_coarsenable(g);
+    if (!why.empty()) fail("{}: grid.coarsen = {}: coarsening {} failed: {}", c.file, gc.coarsen, level + 1, why);
+    g = coarsen(g);
+  }
   return g;
 }
 

@@ -13,6 +13,7 @@
 #include "multigrid/fas.hpp"
 #include "physics/flow.hpp"
 #include "physics/manufactured.hpp"
+#include "turbulence/model.hpp"
 
 namespace narwhal {
 
@@ -33,6 +34,7 @@ struct GridConfig {
   std::vector<Plot3dPatch> plot3d_patches;
   Index3 split{1, 1, 1};
   bool split_rotate = false;
+  int coarsen = 0;  // remove every other grid line this many times (nested grid families)
 };
 
 struct PeriodicConfig {
@@ -67,6 +69,7 @@ struct CaseConfig {
   std::vector<PeriodicConfig> periodic;
   SolverConfig solver;
   OutputConfig output;
+  TurbulenceSettings turbulence;
   Vec3 body_force = Vec3::Zero();  // constant momentum source per unit volume (drives periodic ducts)
   bool manufactured = false;
   ManufacturedSolution mms;

@@ -40,7 +40,8 @@ void patch_vertex_range(const Block& b, const Patch& p, cgsize_t range[6]) {
 
 }  // namespace
 
-void write_cgns_solution(const std::string& path, const Grid& g, const FlowField& f) {
+void write_cgns_solution(const std::string& path, const Grid& g, const FlowField& f,
+                         const std::vector<std::string>& turbulence, Real nu_laminar) {
   const std::string tmp = path + ".tmp";
   int fn = 0, base = 0;
   check(cg_open(tmp.c_str(), CG_MODE_WRITE, &fn), "open " + tmp);
@@ -75,6 +76,18 @@ void write_cgns_solution(const std::string& path, const Grid& g, const FlowField
       int fld = 0;
       check(cg_field_write(fn, base, zone, sol, RealDouble, fields[m], buf.data(), &fld), "field");
     }
+    auto write_cell_field = [&](const std::string& name, auto value) {
+      buf.clear();
+      for (int k = 0; k < b.nk; ++k)
+        for (int j = 0; j < b.nj; ++j)
+          for (int i = 0; i < b.ni; ++i) buf.push_back(value(i, j, k));
+      int fld = 0;
+      check(cg_field_write(fn, base, zone, sol, RealDouble, name.c_str(), buf.data(), &fld), "field " + name);
+    };
+    for (std::size_t m = 0; m < turbulence.size() && !f.turb.empty(); ++m)
+      write_cell_field(turbulence[m], [&](int i, int j, int k) { return f.turb[ib](i, j, k)[m]; });
+    if (!turbulence.empty())
+      write_cell_field("ViscosityEddyKinematic", [&](int i, int j, int k) { return f.nu[ib](i, j, k) - nu_laminar; });
     int nbc = 0, ncon = 0;
     for (const Patch& p : b.patches) {
       cgsize_t range[6];

@@ -9,13 +9,15 @@
 
 namespace narwhal {
 
-HistoryWriter::HistoryWriter(const std::string& path, const std::vector<std::string>& groups, bool append)
-    : groups_(groups) {
+HistoryWriter::HistoryWriter(const std::string& path, const std::vector<std::string>& groups, bool append,
+                             const std::vector<std::string>& turbulence)
+    : groups_(groups), turbulence_(turbulence.size()) {
   const bool existed = append && std::filesystem::exists(path);
   file_ = std::fopen(path.c_str(), existed ? "a" : "w");
   if (!file_) fail("cannot write '{}'", path);
   if (!existed) {
     fmt::print(file_, "iteration,wall_s,cfl,res_p,res_u,res_v,res_w");
+    for (const auto& t : turbulence) fmt::print(file_, ",res_{}", t);
     for (const auto& g : groups_)
       for (const char* c : {"cfx", "cfy", "cfz", "cmx", "cmy", "cmz"}) fmt::print(file_, ",{}_{}", g, c);
     fmt::print(file_, "\n");
@@ -27,10 +29,11 @@ HistoryWriter::~HistoryWriter() {
 }
 
 void HistoryWriter::write(int iteration, Real wall_seconds, const IterationNorms& n,
-                          const std::map<std::string, ForceCoefficients>& forces) {
+                          const std::map<std::string, ForceCoefficients>& forces, const std::vector<Real>& turbulence) {
   // Full precision: restart equality compares these rows.
   fmt::print(file_, "{},{:.6f},{:.6e},{:.17g},{:.17g},{:.17g},{:.17g}", iteration, wall_seconds, n.cfl, n.l2[0],
              n.l2[1], n.l2[2], n.l2[3]);
+  for (std::size_t m = 0; m < turbulence_; ++m) fmt::print(file_, ",{:.17g}", m < turbulence.size() ? turbulence[m] : 0.0);
   for (const auto& g : groups_) {
     const auto& c = forces.at(g);
     fmt::print(file_, ",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", c.force[0], c.force[1], c.force[2],

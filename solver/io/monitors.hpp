@@ -14,17 +14,20 @@ namespace narwhal {
 class HistoryWriter {
  public:
   // Appends to an existing file when `append` (restarted runs keep one history).
-  HistoryWriter(const std::string& path, const std::vector<std::string>& groups, bool append);
+  // `turbulence`: names of the turbulence model's variables (a residual column each).
+  HistoryWriter(const std::string& path, const std::vector<std::string>& groups, bool append,
+                const std::vector<std::string>& turbulence = {});
   ~HistoryWriter();
   HistoryWriter(const HistoryWriter&) = delete;
   HistoryWriter& operator=(const HistoryWriter&) = delete;
   void write(int iteration, Real wall_seconds, const IterationNorms& n,
-             const std::map<std::string, ForceCoefficients>& forces);
+             const std::map<std::string, ForceCoefficients>& forces, const std::vector<Real>& turbulence = {});
   void flush();
 
  private:
   std::FILE* file_ = nullptr;
   std::vector<std::string> groups_;
+  std::size_t turbulence_ = 0;
 };
 
 void write_surface_csv(const std::string& path, const std::vector<WallFace>& faces);

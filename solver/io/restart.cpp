@@ -56,6 +56,8 @@ void write_restart(const std::string& path, const Grid& g, const FlowField& f, c
   write_scalar_attr(file, "iteration", H5T_NATIVE_INT, info.iteration);
   write_scalar_attr(file, "reference_norm", H5T_NATIVE_DOUBLE, info.reference_norm);
   write_scalar_attr(file, "wall_seconds", H5T_NATIVE_DOUBLE, info.wall_seconds);
+  write_scalar_attr(file, "turbulence_reference_0", H5T_NATIVE_DOUBLE, info.turbulence_reference[0]);
+  write_scalar_attr(file, "turbulence_reference_1", H5T_NATIVE_DOUBLE, info.turbulence_reference[1]);
   hid_t blocks = H5Gcreate2(file, "blocks", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   std::vector<double> buf;
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
@@ -74,6 +76,19 @@ void write_restart(const std::string& path, const Grid& g, const FlowField& f, c
     write_string_attr(ds, "variables", "p,u,v,w");
     H5Dclose(ds);
     H5Sclose(space);
+    if (!f.turb.empty()) {  // turbulence model variables T[k][j][i][2]
+      hsize_t tdims[4] = {dims[0], dims[1], dims[2], 2};
+      buf.clear();
+      for (int k = 0; k < b.nk; ++k)
+        for (int j = 0; j < b.nj; ++j)
+          for (int i = 0; i < b.ni; ++i)
+            for (int m = 0; m < 2; ++m) buf.push_back(f.turb[ib](i, j, k)[m]);
+      space = H5Screate_simple(4, tdims, nullptr);
+      ds = H5Dcreate2(grp, "turbulence", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data());
+      H5Dclose(ds);
+      H5Sclose(space);
+    }
     H5Gclose(grp);
   }
   H5Gclose(blocks);
@@ -90,6 +105,10 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f) {
   info.iteration = read_scalar_attr<int>(file, "iteration", H5T_NATIVE_INT, path);
   info.reference_norm = read_scalar_attr<double>(file, "reference_norm", H5T_NATIVE_DOUBLE, path);
   info.wall_seconds = read_scalar_attr<double>(file, "wall_seconds", H5T_NATIVE_DOUBLE, path);
+  if (H5Aexists(file, "turbulence_reference_0") > 0) {
+    info.turbulence_reference[0] = read_scalar_attr<double>(file, "turbulence_reference_0", H5T_NATIVE_DOUBLE, path);
+    info.turbulence_reference[1] = read_scalar_attr<double>(file, "turbulence_reference_1", H5T_NATIVE_DOUBLE, path);
+  }
   std::vector<double> buf;
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
@@ -114,6 +133,22 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f) {
       for (int j = 0; j < b.nj; ++j)
         for (int i = 0; i < b.ni; ++i)
           for (int m = 0; m < kNumEq; ++m) f.Q[ib](i, j, k)[m] = buf[n++];
+    const std::string tname = "blocks/" + b.name + "/turbulence";
+    if (H5Lexists(file, tname.c_str(), H5P_DEFAULT) > 0) {
+      if (f.turb.size() != g.blocks.size()) {
+        f.turb.clear();
+        for (const Block& bb : g.blocks) f.turb.emplace_back(bb.ni, bb.nj, bb.nk, kGhost, TurbState::Zero());
+      }
+      buf.resize(b.cells() * 2);
+      ds = H5Dopen2(file, tname.c_str(), H5P_DEFAULT);
+      H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data());
+      H5Dclose(ds);
+      n = 0;
+      for (int k = 0; k < b.nk; ++k)
+        for (int j = 0; j < b.nj; ++j)
+          for (int i = 0; i < b.ni; ++i)
+            for (int m = 0; m < 2; ++m) f.turb[ib](i, j, k)[m] = buf[n++];
+    }
   }
   H5Fclose(file);
   return info;

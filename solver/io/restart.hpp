@@ -13,6 +13,7 @@ struct RestartInfo {
   int iteration = 0;
   Real reference_norm = -1.0;
   Real wall_seconds = 0.0;
+  Real turbulence_reference[2] = {-1.0, -1.0};  // first residuals of the turbulence model's variables
 };
 
 // Writes atomically (temporary file + rename) so a crash never leaves a torn restart.

@@ -96,17 +96,22 @@ void Multigrid::restrict_to(int l) {
     const Block& bH = coarse.grid->blocks[ib];
     const Index3 c = coarsening_factors(bh);
     auto& QH = coarse.field->Q[ib];
+    auto& nuH = coarse.field->nu[ib];
     for_each_cell(bH, [&](int I, int J, int K) {
       State q = State::Zero();
       State r = State::Zero();
+      Real nu = 0.0, v = 0.0;
       for (int dk = 0; dk < c[2]; ++dk)
         for (int dj = 0; dj < c[1]; ++dj)
           for (int di = 0; di < c[0]; ++di) {
             const int i = c[0] * I + di, j = c[1] * J + dj, k = c[2] * K + dk;
             q += bh.vol(i, j, k) * fine.field->Q[ib](i, j, k);
             r += rh[ib](i, j, k);
+            nu += bh.vol(i, j, k) * fine.field->nu[ib](i, j, k);
+            v += bh.vol(i, j, k);
           }
       QH(I, J, K) = q / bH.vol(I, J, K);  // volume-weighted solution restriction
+      nuH(I, J, K) = nu / v;  // the eddy viscosity, frozen during the cycle (§8.6 loose coupling)
       coarse.q0[ib](I, J, K) = QH(I, J, K);
       coarse.forcing[ib](I, J, K) = -r;    // summed residual, completed below
     });

@@ -24,9 +24,13 @@ struct FlowParams {
   std::function<State(const Vec3&)> exact;
 };
 
+// Transported turbulence variables of a cell (up to two; models use the first n).
+using TurbState = Eigen::Matrix<Real, 2, 1>;
+
 struct FlowField {
   std::vector<GhostArray<State>> Q;   // [p, u, v, w] per cell, two ghost layers
   std::vector<GhostArray<Real>> nu;   // effective viscosity nu_e = (1 + nut_hat)/Re (§0.2)
+  std::vector<GhostArray<TurbState>> turb;  // turbulence model variables (empty: none)
 
   void allocate(const Grid& g, const FlowParams& fp, const State& init);
 };

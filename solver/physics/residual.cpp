@@ -56,15 +56,17 @@ Real wall_distance(const Block& b, int side, const Index3& c, Vec3* n_out) {
   return n.dot(b.xc(interior_cell(b, side, c, 1)) - b.xf[d](f));
 }
 
-State muscl_face_flux(const Block& b, const GhostArray<State>& Q, const GhostArray<Real>& nu, int d,
-                      const Index3& f, const FlowParams& fp) {
+State inviscid_face_flux(const Block& b, const GhostArray<State>& Q, int d, const Index3& f, const FlowParams& fp) {
   const Index3 e = unit(d);
   const Index3 cR = f, cL = add(f, e, -1);
   const State qL = muscl_left<State>(Q(add(cL, e, -1)), Q(cL), Q(cR), fp.muscl);
   const State qR = muscl_right<State>(Q(cL), Q(cR), Q(add(cR, e)), fp.muscl);
-  State F = roe_flux<Real>(qL, qR, FaceGeom{b.S[d](f), b.kt[d](f)}, fp.beta);
-  F -= viscous_face_flux(b, Q, nu, d, f, fp.viscous);
-  return F;
+  return roe_flux<Real>(qL, qR, FaceGeom{b.S[d](f), b.kt[d](f)}, fp.beta);
+}
+
+State muscl_face_flux(const Block& b, const GhostArray<State>& Q, const GhostArray<Real>& nu, int d,
+                      const Index3& f, const FlowParams& fp) {
+  return inviscid_face_flux(b, Q, d, f, fp) - viscous_face_flux(b, Q, nu, d, f, fp.viscous);
 }
 
 State boundary_face_flux(const Block& b, const Patch& p, const GhostArray<State>& Q, const GhostArray<Real>& nu,

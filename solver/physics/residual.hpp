@@ -19,6 +19,10 @@ Real thin_layer_coefficient(const Block& b, const GhostArray<Real>& nu, int d, c
 // into the fluid (§4.5), and that normal.
 Real wall_distance(const Block& b, int side, const Index3& c, Vec3* n_into_fluid = nullptr);
 
+// Second-order (MUSCL) Roe flux of an interior, interface or symmetry face, without
+// the viscous part (its first component / beta + k_t is the face volume flux).
+State inviscid_face_flux(const Block& b, const GhostArray<State>& Q, int d, const Index3& f, const FlowParams& fp);
+
 // Second-order (MUSCL) flux of an interior, interface or symmetry face.
 State muscl_face_flux(const Block& b, const GhostArray<State>& Q, const GhostArray<Real>& nu, int d,
                       const Index3& f, const FlowParams& fp);

@@ -1,0 +1,159 @@
+// Turbulence building blocks: wall distance (exact geometry, bucket search against
+// brute force, multiblock), the SA point source (log-layer balance, negative
+// branch), free-stream preservation of the transport scheme, model selection.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "app/driver.hpp"
+#include "mesh/ghost_sweep.hpp"
+#include "test_support.hpp"
+#include "turbulence/spalart_allmaras.hpp"
+#include "turbulence/wall_distance.hpp"
+
+namespace narwhal {
+namespace {
+
+const std::string kTmrCase = "validation/cases/tmr_flat_plate/flat_plate_sa.toml";
+
+TEST(WallDistance, PointTriangleMatchesDenseSampling) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<Real> u(-1.0, 1.0);
+  for (int t = 0; t < 200; ++t) {
+    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+    const Vec3 p = 2.0 * Vec3(u(rng), u(rng), u(rng));
+    const Real exact = point_triangle_distance(p, a, b, c);
+    Real sampled = 1e300;
+    const int n = 200;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const Vec3 q = a + (b - a) * (Real(i) / n) + (c - a) * (Real(j) / n);
+        sampled = std::min(sampled, (p - q).norm());
+      }
+    const Real edge = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
+    EXPECT_LE(exact, sampled + 1e-14);           // never farther than a point of the triangle
+    EXPECT_GE(exact, sampled - edge / n * 1.5);  // and the sampling converges onto it
+  }
+}
+
+// Flat plate (wall y = 0, x >= 0): d = y above the plate, the distance to the
+// leading-edge line above the run-up; the same through a 2 x 2 multiblock split.
+void expect_plate_distances(const std::vector<std::string>& sets) {
+  const CaseConfig c = load_case(test::source_path(kTmrCase), sets);
+  const Grid g = build_grid(c);
+  const WallDistance w = compute_wall_distance(g);
+  ASSERT_TRUE(w.any_wall());
+  Real worst = 0.0;
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+    for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
+      const Vec3 x = g.blocks[ib].xc(i, j, k);
+      const Real expected = x[0] >= 0.0 ? x[1] : std::hypot(x[0], x[1]);
+      worst = std::max(worst, std::abs(w.d[ib](i, j, k) - expected) / std::max(expected, 1e-12));
+    });
+  EXPECT_LE(worst, 1e-10);
+}
+
+TEST(WallDistance, FlatPlateIsExactOnOneAndOnFourBlocks) {
+  expect_plate_distances({"grid.coarsen=3"});
+  expect_plate_distances({"grid.coarsen=3", "grid.split=[2, 2, 1]", "grid.split_rotate=true"});
+}
+
+TEST(WallDistance, BucketSearchEqualsBruteForce) {
+  Grid g;
+  Block b = make_perturbed_box("box", 10, 0.05);
+  randomly_perturb(b, 0.2, 11, false);
+  g.blocks.push_back(std::move(b));
+  for (auto& p : g.blocks[0].patches) p.type = (p.side == 2 || p.side == 1) ? BcType::Wall : BcType::Farfield;
+  finalize_grid(g);
+  const WallDistance w = compute_wall_distance(g);
+  const Block& bb = g.blocks[0];
+  Real worst = 0.0;
+  for_each_cell(bb, [&](int i, int j, int k) {
+    const Vec3 x = bb.xc(i, j, k);
+    Real brute = 1e300;
+    for (const WallFaceRef& f : w.faces) {
+      // Corner nodes of that face, in order, as the two triangles of its quad.
+      const int d = side_dir(f.side), t1 = (d + 1) % 3, t2 = (d + 2) % 3;
+      Index3 n = f.cell;
+      n[d] = side_high(f.side) ? bb.n(d) : 0;
+      const Vec3 a = bb.x(n), b1 = bb.x(add(n, unit(t1))), c1 = bb.x(add(add(n, unit(t1)), unit(t2))),
+                 d1 = bb.x(add(n, unit(t2)));
+      brute = std::min({brute, point_triangle_distance(x, a, b1, c1), point_triangle_distance(x, a, c1, d1)});
+    }
+    worst = std::max(worst, std::abs(w.d[0](i, j, k) - brute));
+  });
+  EXPECT_LE(worst, 1e-14);
+}
+
+TEST(SpalartAllmaras, LogLayerPointSourceBalancesTheDiffusionTerm) {
+  // In the log layer nu~ = kappa u_tau y, Omega = u_tau/(kappa y), r = 1, fw = 1; the
+  // point source must equal minus the diffusion terms, -(1 + cb2) kappa^2 u_tau^2 / sigma,
+  // which is how cw1 is defined. chi is huge so that fv2 and ft2 vanish.
+  const Real kappa = 0.41, cb2 = 0.622, sigma = 2.0 / 3.0, utau = 0.05, y = 1e-3;
+  Grid g;
+  g.blocks.push_back(make_box("b", {0, 1}, {0, 1}, {0, 1}));
+  for (auto& p : g.blocks[0].patches) p.type = BcType::Farfield;
+  finalize_grid(g);
+  const SpalartAllmaras sa(TurbulenceSettings{}, g);
+  CellFlow cf;
+  cf.grad_u.setZero();
+  cf.grad_u(0, 1) = utau / (kappa * y);  // du/dy
+  cf.grad_phi.setZero();
+  cf.d = y;
+  cf.nu = 1e-12;
+  const PointSource s = sa.source(TurbState(kappa * utau * y, 0.0), cf);
+  const Real expected = -(1.0 + cb2) * kappa * kappa * utau * utau / sigma;
+  EXPECT_NEAR(s.value[0] / expected, 1.0, 1e-5);
+  EXPECT_GE(s.implicit[0], 0.0);
+  // Negative branch (SA-neg): the source pushes nu~ back towards zero, implicitly.
+  const PointSource n = sa.source(TurbState(-0.1 * kappa * utau * y, 0.0), cf);
+  EXPECT_GT(n.value[0], 0.0);
+  EXPECT_GT(n.implicit[0], 0.0);
+}
+
+TEST(TransportModel, UniformFreeStreamStaysUniformOnAPerturbedGrid) {
+  Grid g;
+  Block b = make_perturbed_box("box", 8, 0.05);
+  randomly_perturb(b, 0.2, 5, false);
+  g.blocks.push_back(std::move(b));
+  const Vec3 vinf(1.0, 0.3, -0.2);
+  for (auto& p : g.blocks[0].patches) {
+    p.type = BcType::Farfield;
+    p.velocity = vinf;
+  }
+  finalize_grid(g);
+  FlowParams fp;
+  fp.reynolds = 1e6;
+  FlowField f;
+  State init;
+  init << 0.0, vinf;
+  f.allocate(g, fp, init);
+  TurbulenceSettings ts;
+  ts.model = "sa";
+  auto model = make_turbulence_model(ts, g);
+  model->initialize(g, f, fp, false);
+  const TurbulenceNorms n = model->advance(g, f, fp, 1e3);
+  EXPECT_LE(n.l2[0], 1e-12 * 3.0 / fp.reynolds);
+  Real worst = 0.0;
+  for_each_cell(g.blocks[0], [&](int i, int j, int k) {
+    worst = std::max(worst, std::abs(f.turb[0](i, j, k)[0] * fp.reynolds / 3.0 - 1.0));
+  });
+  EXPECT_LE(worst, 1e-12);
+}
+
+TEST(TurbulenceModels, UnknownNameListsTheValidOnes) {
+  Grid g;
+  TurbulenceSettings s;
+  s.model = "k-omega-wilcox";
+  try {
+    make_turbulence_model(s, g);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'sa'"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(load_case(test::source_path(kTmrCase), {"turbulence.model=\"k-omega-wilcox\""}), Error);
+}
+
+}  // namespace
+}  // namespace narwhal

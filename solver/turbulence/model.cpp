@@ -1,0 +1,24 @@
+#include "turbulence/model.hpp"
+
+#include "core/error.hpp"
+#include "turbulence/spalart_allmaras.hpp"
+
+namespace narwhal {
+
+const std::vector<TurbulenceModelInfo>& turbulence_models() {
+  static const std::vector<TurbulenceModelInfo> models = {
+      {"laminar", "no turbulence model"},
+      {"sa", "Spalart-Allmaras one-equation model, SA-neg as on NASA TMR (turbulence/spalart_allmaras.hpp)"},
+  };
+  return models;
+}
+
+std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings& s, const Grid& g) {
+  if (s.model == "laminar") return nullptr;
+  if (s.model == "sa") return std::make_unique<SpalartAllmaras>(s, g);
+  std::string valid;
+  for (const auto& m : turbulence_models()) valid += (valid.empty() ? "" : ", ") + ("'" + m.name + "'");
+  fail("unknown turbulence model '{}': valid models are {}", s.model, valid);
+}
+
+}  // namespace narwhal

@@ -1,0 +1,67 @@
+#pragma once
+// Turbulence models (NUMERICS §8): the interface the driver sees, and run-time
+// selection by name.
+//
+// A model advances its own variables with the mean flow frozen ("loosely coupled",
+// §8.6): the driver calls `advance` after every mean-flow iteration or multigrid
+// cycle; `advance` ends by writing the effective viscosity nu = 1/Re + nu_t into the
+// flow field, which the next mean-flow step (and its coarse levels) uses. Loose
+// coupling keeps the mean-flow 4x4 blocks and their tuned kernels; the coupling
+// error is a lag of one step, gone at convergence.
+//
+// Usage (case file):
+//   [turbulence]
+//   model = "sa"                 # `narwhal list-models` prints the valid names
+//   freestream_nut_ratio = 3.0   # SA: nu_tilde/nu in the free stream (TMR: 3)
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mesh/block.hpp"
+#include "physics/flow.hpp"
+#include "turbulence/wall_distance.hpp"
+
+namespace narwhal {
+
+struct TurbulenceSettings {
+  std::string model = "laminar";
+  Real freestream_nut_ratio = 3.0;  // SA: nu_tilde_inf / nu; two-equation models: nu_t_inf / nu
+  Real intensity = 0.001;           // free-stream turbulence intensity Tu (k-based models, §8.7)
+  int iterations = 1;               // model iterations per mean-flow step
+  int sgs_iterations = 2;           // symmetric Gauss-Seidel pairs per model iteration
+  Real cfl_max = 1.0e4;             // cap of the model's pseudo-time CFL (follows the mean flow's below it)
+};
+
+struct TurbulenceNorms {
+  Real l2[2] = {0.0, 0.0};  // RMS of R/V per variable
+};
+
+class TurbulenceModel {
+ public:
+  virtual ~TurbulenceModel() = default;
+  virtual std::string name() const = 0;
+  virtual int num_variables() const = 0;
+  virtual std::string variable_name(int m) const = 0;
+  virtual std::string cgns_name(int m) const = 0;  // CGNS SIDS data-array name
+  // Free stream everywhere (or keep restart values when `keep` and sized).
+  virtual void initialize(const Grid& g, FlowField& f, const FlowParams& fp, bool keep) = 0;
+  // One loosely coupled update at the pseudo-time CFL of the mean flow.
+  virtual TurbulenceNorms advance(Grid& g, FlowField& f, const FlowParams& fp, Real cfl) = 0;
+  // nu = 1/Re + nu_t from the model's variables (flow ghosts filled).
+  virtual void update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) = 0;
+  // Cell eddy viscosity nu_t (nondimensional) for output.
+  virtual Real eddy_viscosity(const FlowField& f, const FlowParams& fp, int ib, const Index3& c) const = 0;
+};
+
+struct TurbulenceModelInfo {
+  std::string name, summary;
+};
+
+// Every selectable model, "laminar" (none) first.
+const std::vector<TurbulenceModelInfo>& turbulence_models();
+
+// The model of that name on this grid (wall distance computed here), or nullptr
+// for "laminar"; an unknown name throws, listing the valid ones.
+std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings& s, const Grid& g);
+
+}  // namespace narwhal

@@ -1,0 +1,304 @@
+#include "turbulence/transport_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "bc/boundary.hpp"
+#include "mesh/ghost_sweep.hpp"
+#include "physics/residual.hpp"
+
+namespace narwhal {
+
+namespace {
+
+Real positive(Real x) { return x > 0.0 ? x : 0.0; }
+Real negative(Real x) { return x < 0.0 ? x : 0.0; }
+
+// Volume flux U_f = F_1/beta + k_t through face f of direction d (along +S), from
+// the flux the mean flow itself uses there (§8.6).
+Real interior_volume_flux(const Block& b, const GhostArray<State>& Q, int d, const Index3& f, const FlowParams& fp) {
+  return inviscid_face_flux(b, Q, d, f, fp)[0] / fp.beta + b.kt[d](f);
+}
+
+
+}  // namespace
+
+TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) : settings_(s), wall_(compute_wall_distance(g)) {
+  for (const Block& b : g.blocks) {
+    Work w;
+    for (int d = 0; d < 3; ++d) {
+      Index3 n = b.dims();
+      n[d] += 1;
+      w.U[d].resize(n[0], n[1], n[2], 0, 0.0);
+      w.aL[d].resize(n[0], n[1], n[2], 0, TurbState::Zero());
+      w.aR[d].resize(n[0], n[1], n[2], 0, TurbState::Zero());
+    }
+    w.R.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
+    w.D.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
+    w.dphi.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
+    work_.push_back(std::move(w));
+  }
+}
+
+void TransportModel::initialize(const Grid& g, FlowField& f, const FlowParams& fp, bool keep) {
+  if (keep && f.turb.size() == g.blocks.size()) return;
+  f.turb.clear();
+  for (const Block& b : g.blocks) f.turb.emplace_back(b.ni, b.nj, b.nk, kGhost, TurbState::Zero());
+  const TurbState inf = freestream(1.0 / fp.reynolds);
+  for (auto& t : f.turb) t.fill(inf);
+}
+
+void TransportModel::fill_scalar_ghosts(Grid& g, FlowField& f, const FlowParams& fp) const {
+  const Real nu = 1.0 / fp.reynolds;
+  const TurbState inf = freestream(nu);
+  ghost_sweep(g, [&](int ib, const Patch& p, int m) {
+    const Block& b = g.blocks[ib];
+    auto& T = f.turb[ib];
+    const PatchRange r = extended_cell_range(b, p);
+    if (p.type == BcType::Interface) {
+      const Interface& itf = g.interfaces[p.interface];
+      const auto& TD = f.turb[itf.donor];
+      for_each_in(r, [&](Index3 c) {
+        const Index3 gc = ghost_cell(b, p.side, c, m);
+        T(gc) = TD(itf.map_cell(gc));
+      });
+      return;
+    }
+    for_each_in(r, [&](Index3 c) {
+      const Index3 gc = ghost_cell(b, p.side, c, m);
+      const TurbState& tm = T(interior_cell(b, p.side, c, m));
+      switch (p.type) {
+        case BcType::Wall: T(gc) = 2.0 * wall_value(nu, wall_distance(b, p.side, c)) - tm; break;
+        case BcType::Symmetry: T(gc) = tm; break;
+        case BcType::Outflow: T(gc) = tm; break;  // zero gradient
+        // Far field, inflow, Dirichlet: the free stream. A ghost that switched with the
+        // sign of u.n would make the diffusion flux discontinuous where the flow is
+        // tangent to the boundary (and the iteration cycle); the convective flux
+        // U+ phi_1 + U- phi_g upwinds continuously anyway.
+        default: T(gc) = inf; break;
+      }
+    });
+  });
+}
+
+CellFlow TransportModel::cell_flow(const Block& b, int ib, const FlowField& f, const FlowParams& fp, const Index3& c,
+                                   bool with_phi_gradient) const {
+  // Green-Gauss over the six faces with face values averaged from the two cells (§8.1).
+  CellFlow cf;
+  cf.grad_u.setZero();
+  cf.grad_phi.setZero();
+  const auto& Q = f.Q[ib];
+  const auto& T = f.turb[ib];
+  for (int d = 0; d < 3; ++d) {
+    if (d == b.planar_dir) continue;  // the two plane faces cancel
+    const Index3 e = unit(d);
+    const Index3 up = add(c, e), dn = add(c, e, -1);
+    const Vec3& Sup = b.S[d](up);
+    const Vec3& Sdn = b.S[d](c);
+    const Vec3 uup = 0.5 * (Q(c).tail<3>() + Q(up).tail<3>());
+    const Vec3 udn = 0.5 * (Q(c).tail<3>() + Q(dn).tail<3>());
+    cf.grad_u += uup * Sup.transpose() - udn * Sdn.transpose();
+    if (with_phi_gradient) {
+      const TurbState tup = 0.5 * (T(c) + T(up)), tdn = 0.5 * (T(c) + T(dn));
+      cf.grad_phi += Sup * tup.transpose() - Sdn * tdn.transpose();
+    }
+  }
+  const Real inv_v = 1.0 / b.vol(c);
+  cf.grad_u *= inv_v;
+  cf.grad_phi *= inv_v;
+  cf.d = wall_.d[ib](c);
+  cf.nu = 1.0 / fp.reynolds;
+  return cf;
+}
+
+TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams& fp, Real cfl) {
+  const int nv = num_variables();
+  const Real nu = 1.0 / fp.reynolds;
+  const Real cfl_t = std::min(cfl, settings_.cfl_max);
+  fill_ghosts(g, f, fp);  // mean-flow ghosts: volume fluxes and velocity gradients
+  // Volume fluxes of every face, once per call: the mean flow is frozen here.
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    const Block& b = g.blocks[ib];
+    Work& w = work_[ib];
+    for (int d = 0; d < 3; ++d) {
+      if (d == b.planar_dir) continue;
+      Index3 lo{0, 0, 0}, hi = b.dims();
+      lo[d] = 1;
+      for (int k = lo[2]; k < hi[2]; ++k)
+        for (int j = lo[1]; j < hi[1]; ++j)
+          for (int i = lo[0]; i < hi[0]; ++i) w.U[d](i, j, k) = interior_volume_flux(b, f.Q[ib], d, {i, j, k}, fp);
+    }
+    for (const Patch& p : b.patches) {
+      const int d = side_dir(p.side);
+      if (d == b.planar_dir) continue;
+      PatchRange r{p.lo, p.hi};
+      r.lo[d] = 0;
+      r.hi[d] = 1;
+      for_each_in(r, [&](Index3 c) {
+        const Index3 fi = boundary_face_index(b, p.side, c);
+        w.U[d](fi) = boundary_face_flux(b, p, f.Q[ib], f.nu[ib], c, fp)[0] / fp.beta + b.kt[d](fi);
+      });
+    }
+  }
+
+  const TurbState inf = freestream(nu);
+  TurbulenceNorms norms;
+  for (int it = 0; it < settings_.iterations; ++it) {
+    fill_scalar_ghosts(g, f, fp);
+    std::size_t cells = 0;
+    for (int m = 0; m < nv; ++m) norms.l2[m] = 0.0;
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      const Block& b = g.blocks[ib];
+      Work& w = work_[ib];
+      const auto& T = f.turb[ib];
+      w.R.fill(TurbState::Zero());
+      w.D.fill(TurbState::Zero());
+      GhostArray<Real> lam(b.ni, b.nj, b.nk, 0, 0.0);  // spectral radius for the pseudo-time term
+      // Thin-layer diffusion coefficients Gamma |S|^2 / V_f for the left and right cells.
+      auto face_coeff = [&](int d, const Index3& cL, const Index3& cR, const Index3& fi) {
+        FaceDiffusivity fd = face_diffusivity(T(cL), T(cR), nu);
+        const Real geo = b.S[d](fi).squaredNorm() / (0.5 * (b.vol(cL) + b.vol(cR)));
+        fd.left *= geo;
+        fd.right *= geo;
+        return fd;
+      };
+      // Interior faces.
+      for (int d = 0; d < 3; ++d) {
+        if (d == b.planar_dir) continue;
+        const Index3 e = unit(d);
+        Index3 lo{0, 0, 0}, hi = b.dims();
+        lo[d] = 1;
+        for (int k = lo[2]; k < hi[2]; ++k)
+          for (int j = lo[1]; j < hi[1]; ++j)
+            for (int i = lo[0]; i < hi[0]; ++i) {
+              const Index3 fi{i, j, k}, cL = add(fi, e, -1), cR = fi;
+              const Real U = w.U[d](fi);
+              const FaceDiffusivity c = face_coeff(d, cL, cR, fi);
+              const TurbState conv = positive(U) * T(cL) + negative(U) * T(cR);
+              const TurbState jump = T(cR) - T(cL);
+              w.R(cL) += conv - c.left.cwiseProduct(jump);
+              w.R(cR) -= conv - c.right.cwiseProduct(jump);
+              w.D(cL) += TurbState::Constant(positive(U)) + c.left;
+              w.D(cR) += c.right - TurbState::Constant(negative(U));
+              w.aR[d](fi) = TurbState::Constant(negative(U)) - c.left;    // dR_L / dphi_R
+              w.aL[d](fi) = -(TurbState::Constant(positive(U)) + c.right);  // dR_R / dphi_L
+              lam(cL) += 0.5 * std::abs(U) + c.left.maxCoeff();
+              lam(cR) += 0.5 * std::abs(U) + c.right.maxCoeff();
+            }
+      }
+      // Boundary faces: the ghost follows the BC, d(ghost)/d(phi_1) = dg.
+      for (const Patch& p : b.patches) {
+        const int d = side_dir(p.side);
+        if (d == b.planar_dir) continue;
+        PatchRange r{p.lo, p.hi};
+        r.lo[d] = 0;
+        r.hi[d] = 1;
+        const Real s = side_high(p.side) ? 1.0 : -1.0;
+        for_each_in(r, [&](Index3 cc) {
+          const Index3 fi = boundary_face_index(b, p.side, cc);
+          const Index3 c1 = interior_cell(b, p.side, cc, 1), gc = ghost_cell(b, p.side, cc, 1);
+          const Real Uout = s * w.U[d](fi);
+          Real dg = 1.0;
+          switch (p.type) {
+            case BcType::Wall: dg = -1.0; break;
+            case BcType::Interface: dg = 0.0; break;  // lagged, like the mean flow's block coupling
+            case BcType::Symmetry: dg = 1.0; break;
+            case BcType::Outflow: dg = 1.0; break;
+            default: dg = 0.0; break;  // far field, inflow, Dirichlet: the ghost holds the free stream
+          }
+          const TurbState c = face_coeff(d, c1, gc, fi).left;  // cell 1 is "left" here
+          w.R(c1) += positive(Uout) * T(c1) + negative(Uout) * T(gc) - c.cwiseProduct(T(gc) - T(c1));
+          w.D(c1) += TurbState::Constant(positive(Uout) + negative(Uout) * dg) + c * (1.0 - dg);
+          lam(c1) += 0.5 * std::abs(Uout) + c.maxCoeff();
+        });
+      }
+      // Sources and the pseudo-time term.
+      for_each_cell(b, [&](int i, int j, int k) {
+        const Index3 c{i, j, k};
+        const CellFlow cfw = cell_flow(b, static_cast<int>(ib), f, fp, c, true);
+        const PointSource src = source(T(c), cfw);
+        // The implicit coefficient is the larger of the model's destruction
+        // linearization and -dS/dphi by a one-sided difference of the whole point
+        // source: near walls SA's fw and ft2 vary fast with nu~, and a diagonal that
+        // missed it let the iteration cycle with period 2 (coarse TMR plate).
+        TurbState implicit = src.implicit;
+        for (int m = 0; m < nv; ++m) {
+          TurbState shifted = T(c);
+          const Real h = 1e-6 * std::abs(T(c)[m]) + 1e-9 * std::abs(inf[m]) + 1e-300;
+          shifted[m] += h;
+          const Real dS = (source(shifted, cfw).value[m] - src.value[m]) / h;
+          implicit[m] = std::max(implicit[m], -dS);
+        }
+        const Real V = b.vol(c);
+        w.R(c) -= V * src.value;
+        w.D(c) += V * implicit + TurbState::Constant(lam(c) / cfl_t);
+        for (int m = 0; m < nv; ++m) {
+          if (!(w.D(c)[m] > 0.0)) w.D(c)[m] = lam(c) > 0.0 ? lam(c) : 1.0;  // keep the relaxation defined
+          norms.l2[m] += (w.R(c)[m] / V) * (w.R(c)[m] / V);
+        }
+        if (nv < 2) {
+          w.R(c)[1] = 0.0;
+          w.D(c)[1] = 1.0;
+        }
+      });
+      cells += b.cells();
+    }
+    for (int m = 0; m < nv; ++m) norms.l2[m] = std::sqrt(norms.l2[m] / static_cast<Real>(cells));
+
+    // Symmetric Gauss-Seidel on the scalar blocks.
+    for (auto& w : work_) w.dphi.fill(TurbState::Zero());
+    for (int sweep = 0; sweep < 2 * settings_.sgs_iterations; ++sweep) {
+      const bool forward = sweep % 2 == 0;
+      for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+        const Block& b = g.blocks[ib];
+        Work& w = work_[ib];
+        auto relax = [&](int i, int j, int k) {
+          const Index3 c{i, j, k};
+          TurbState r = -w.R(c);
+          for (int d = 0; d < 3; ++d) {
+            if (d == b.planar_dir) continue;
+            const Index3 e = unit(d);
+            const Index3 up = add(c, e), dn = add(c, e, -1);
+            r -= w.aR[d](up).cwiseProduct(w.dphi(up)) + w.aL[d](c).cwiseProduct(w.dphi(dn));
+          }
+          w.dphi(c) = r.cwiseQuotient(w.D(c));
+        };
+        if (forward) {
+          for (int k = 0; k < b.nk; ++k)
+            for (int j = 0; j < b.nj; ++j)
+              for (int i = 0; i < b.ni; ++i) relax(i, j, k);
+        } else {
+          for (int k = b.nk - 1; k >= 0; --k)
+            for (int j = b.nj - 1; j >= 0; --j)
+              for (int i = b.ni - 1; i >= 0; --i) relax(i, j, k);
+        }
+      }
+    }
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+      for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
+        TurbState& phi = f.turb[ib](i, j, k);
+        phi += limit_update(phi, work_[ib].dphi(i, j, k));
+        if (nv < 2) phi[1] = 0.0;
+      });
+  }
+  update_viscosity(g, f, fp);
+  return norms;
+}
+
+void TransportModel::update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) {
+  const Real nu = 1.0 / fp.reynolds;
+  const Real cap = 1.0e6 * nu;  // §8.6: nut_hat <= 1e6
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    const Block& b = g.blocks[ib];
+    for_each_cell(b, [&](int i, int j, int k) {
+      const CellFlow cf = cell_flow(b, static_cast<int>(ib), f, fp, {i, j, k}, false);
+      f.nu[ib](i, j, k) = nu + std::clamp(nut(f.turb[ib](i, j, k), cf), 0.0, cap);
+    });
+  }
+}
+
+Real TransportModel::eddy_viscosity(const FlowField& f, const FlowParams& fp, int ib, const Index3& c) const {
+  return f.nu[ib](c) - 1.0 / fp.reynolds;
+}
+
+}  // namespace narwhal

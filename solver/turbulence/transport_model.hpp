@@ -1,0 +1,82 @@
+#pragma once
+// The machinery shared by the transport-equation models (SA, k-epsilon, SST),
+// NUMERICS §8.6:
+// - convection: first-order upwind with the mean flow's numerical volume flux
+//   U_f = F_1/beta + k_t of the same face, so a uniform variable stays uniform
+//   wherever the discrete continuity equation holds;
+// - diffusion: thin-layer, coefficient averaged to the face from the cells (or per
+//   side, for SA's non-conservative cb2 form);
+// - sources: point values from the model; only their destruction part enters the
+//   implicit diagonal;
+// - one Newton step per iteration, relaxed by symmetric Gauss-Seidel (scalar
+//   blocks per variable); block interfaces lag by one iteration, as in the mean flow.
+// Boundary ghosts: wall 2 phi_w - phi_1 (phi_w from the model), symmetry and
+// outflow zero gradient, far field / inflow the free stream where the flow enters.
+#include <array>
+
+#include "turbulence/model.hpp"
+
+namespace narwhal {
+
+// What a model's point sources see of a cell.
+struct CellFlow {
+  Mat3 grad_u;       // grad_u(i, j) = d u_i / d x_j (Green-Gauss, §8.1)
+  Real d = 0.0;      // wall distance (+inf without walls)
+  Real nu = 0.0;     // laminar kinematic viscosity 1/Re
+  Eigen::Matrix<Real, 3, 2> grad_phi;  // gradients of the model variables
+};
+
+struct PointSource {
+  TurbState value = TurbState::Zero();     // S per unit volume
+  TurbState implicit = TurbState::Zero();  // >= 0: -dS/dphi of the destruction part
+};
+
+class TransportModel : public TurbulenceModel {
+ public:
+  TransportModel(const TurbulenceSettings& s, const Grid& g);
+
+  void initialize(const Grid& g, FlowField& f, const FlowParams& fp, bool keep) override;
+  TurbulenceNorms advance(Grid& g, FlowField& f, const FlowParams& fp, Real cfl) override;
+  void update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) override;
+  Real eddy_viscosity(const FlowField& f, const FlowParams& fp, int ib, const Index3& c) const override;
+
+  const WallDistance& walls() const { return wall_; }
+
+ protected:
+  virtual TurbState freestream(Real nu) const = 0;
+  virtual TurbState wall_value(Real nu, Real d1) const = 0;  // at the wall face; d1: first cell centre
+  virtual TurbState diffusivity(const TurbState& phi, Real nu) const = 0;
+  // Diffusion coefficients of a face as seen by its left and right cells (equal for
+  // a conservative term; SA's cb2 form differs per side). Default: the face average
+  // of `diffusivity` for both.
+  struct FaceDiffusivity {
+    TurbState left, right;
+  };
+  virtual FaceDiffusivity face_diffusivity(const TurbState& phiL, const TurbState& phiR, Real nu) const {
+    const TurbState g = 0.5 * (diffusivity(phiL, nu) + diffusivity(phiR, nu));
+    return {g, g};
+  }
+  virtual PointSource source(const TurbState& phi, const CellFlow& c) const = 0;
+  virtual Real nut(const TurbState& phi, const CellFlow& c) const = 0;
+  // The update actually applied (positivity, §8.6); default: as computed.
+  virtual TurbState limit_update(const TurbState& /*phi*/, const TurbState& dphi) const { return dphi; }
+
+  TurbulenceSettings settings_;
+
+ private:
+  void fill_scalar_ghosts(Grid& g, FlowField& f, const FlowParams& fp) const;
+  CellFlow cell_flow(const Block& b, int ib, const FlowField& f, const FlowParams& fp, const Index3& c,
+                     bool with_phi_gradient) const;
+
+  WallDistance wall_;
+  // Per block: face volume fluxes per direction, residual, implicit diagonal and
+  // off-diagonal coefficients per face (dR_R/dphi_L and dR_L/dphi_R), correction.
+  struct Work {
+    std::array<GhostArray<Real>, 3> U;
+    std::array<GhostArray<TurbState>, 3> aL, aR;
+    GhostArray<TurbState> R, D, dphi;
+  };
+  std::vector<Work> work_;
+};
+
+}  // namespace narwhal
