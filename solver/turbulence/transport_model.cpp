@@ -277,7 +277,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
     for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
       for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
         TurbState& phi = f.turb[ib](i, j, k);
-        phi += limit_update(phi, work_[ib].dphi(i, j, k));
+        phi += settings_.relaxation * limit_update(phi, work_[ib].dphi(i, j, k));
         if (nv < 2) phi[1] = 0.0;
       });
   }

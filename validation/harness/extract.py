@@ -86,6 +86,31 @@ def surface(ctx, spec, run_id):
     return Curve(x[keep], y[keep], f"{yn}({xn})")
 
 
+def surface_at(ctx, spec, run_id):
+    """One surface column interpolated (linearly in x) to the station `at`."""
+    c = surface(ctx, {k: v for k, v in spec.items() if k not in ("x_min", "x_max")}, run_id)
+    x0 = float(_need(spec, "at", "the station"))
+    if not c.x.min() <= x0 <= c.x.max():
+        raise HarnessError(f"surface_at: x = {x0} lies outside the wall faces [{c.x.min()}, {c.x.max()}]")
+    return float(np.interp(x0, c.x, c.y))
+
+
+def wall_units(ctx, spec, run_id):
+    """u+ against y+ at station x of a single-block plate: u_tau = sqrt(|Cf|/2) from the
+    wall shear interpolated there (U = 1, rho = 1), y+ = Re u_tau y, u+ = u/u_tau."""
+    zones = ctx.solution(run_id)
+    if len(zones) != 1:
+        raise HarnessError("wall_units extraction expects a single-block plate grid")
+    x0 = float(_need(spec, "x", "the streamwise station"))
+    re = float(ctx.resolve(run_id, spec.get("reynolds", "input:flow.reynolds")))
+    cf = surface_at(ctx, {"group": spec.get("group", "plate"), "y": "cf_x", "at": x0}, run_id)
+    utau = math.sqrt(abs(cf) / 2.0)
+    y, u, _ = _column_at(zones[0], x0)
+    yp, up = re * utau * y, u / utau
+    keep = (yp >= float(spec.get("yplus_min", 0.0))) & (yp <= float(spec.get("yplus_max", np.inf)))
+    return Curve(yp[keep], up[keep], "u+(y+)")
+
+
 def run_json(ctx, spec, run_id):
     with open(ctx.run_dir(run_id) / "run.json") as f:
         data = json.load(f)
@@ -234,7 +259,7 @@ def curve_difference(ctx, spec, run_id):
     return float(np.max(np.abs(a.y - b.y)))
 
 
-KINDS = {"surface": surface, "ratio": ratio, "curve_difference": curve_difference, "run_json": run_json, "history_last": history_last, "field_error": field_error, "boundary_layer": boundary_layer,
+KINDS = {"surface": surface, "surface_at": surface_at, "wall_units": wall_units, "ratio": ratio, "curve_difference": curve_difference, "run_json": run_json, "history_last": history_last, "field_error": field_error, "boundary_layer": boundary_layer,
          "duct": duct, "history_difference": history_difference}
 
 

@@ -8,6 +8,9 @@ from .errors import HarnessError
 
 
 class ReferenceFile:
+    """Numeric columns are read as floats on demand; text columns (model or code
+    names in tables of several codes) select rows with `rows_where`."""
+
     def __init__(self, root, rel):
         self.path = Path(root) / rel
         if not self.path.exists():
@@ -20,19 +23,47 @@ class ReferenceFile:
                 if names is None:
                     names = [n.strip() for n in line.split(",")]
                 else:
-                    rows.append([float(x) for x in line.split(",")])
+                    rows.append([x.strip() for x in line.split(",")])
         if names is None or not rows:
             raise HarnessError(f"reference file '{rel}' has no data rows")
         if not self.header:
             raise HarnessError(f"reference file '{rel}' has no provenance header")
         self.names = names
-        self.data = np.array(rows)
+        self.rows = rows
         self.rel = rel
 
-    def column(self, name):
+    def _index(self, name):
         if name not in self.names:
             raise HarnessError(f"reference file '{self.rel}' has no column '{name}' (columns: {', '.join(self.names)})")
-        return self.data[:, self.names.index(name)]
+        return self.names.index(name)
+
+    def column(self, name, rows=None):
+        i = self._index(name)
+        try:
+            return np.array([float(self.rows[r][i]) for r in (range(len(self.rows)) if rows is None else rows)])
+        except ValueError:
+            raise HarnessError(f"reference file '{self.rel}': column '{name}' is not numeric") from None
+
+    def rows_where(self, where):
+        """Indices of the rows whose columns equal the given values (text or number)."""
+        idx = {k: self._index(k) for k in where}
+        out = []
+        for r, row in enumerate(self.rows):
+            ok = True
+            for k, v in where.items():
+                cell = row[idx[k]]
+                if isinstance(v, (int, float)):
+                    try:
+                        ok = ok and float(cell) == float(v)
+                    except ValueError:
+                        ok = False
+                else:
+                    ok = ok and cell == str(v)
+            if ok:
+                out.append(r)
+        if not out:
+            raise HarnessError(f"reference file '{self.rel}': no row where {where}")
+        return out
 
     def header_value(self, pattern):
         for line in self.header:

@@ -42,7 +42,9 @@ def resolve_reference(ctx, spec, root, run_id_for_inputs=None):
     if "x" in spec and "y" in spec:
         return Curve(ref.column(spec["x"]), ref.column(spec["y"]), spec["y"]), desc
     if "column" in spec:
-        col = ref.column(spec["column"])
+        col = ref.column(spec["column"], ref.rows_where(spec["where"]) if "where" in spec else None)
+        if "where" in spec and col.size != 1:
+            raise HarnessError(f"reference '{spec['file']}': {col.size} rows match {spec['where']}, expected one")
         row = int(spec.get("row", 0))
         if not -col.size <= row < col.size:
             raise HarnessError(f"reference '{spec['file']}': row {row} out of range ({col.size} rows)")
