@@ -130,3 +130,36 @@ class GridFamilies(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class ReferenceRows(unittest.TestCase):
+    """Tables of several codes: a value is picked by text columns (model, code, grid)."""
+
+    def setUp(self):
+        import tempfile
+        from pathlib import Path
+        self.dir = tempfile.TemporaryDirectory()
+        self.root = Path(self.dir.name)
+        (self.root / "t.csv").write_text("# provenance: a test table\nmodel,grid,cf\nSA,545x385,0.0027291\n"
+                                         "SA,273x193,0.0027285\nSST,545x385,0.0027174\n")
+
+    def tearDown(self):
+        self.dir.cleanup()
+
+    def test_value_selected_by_text_columns(self):
+        from harness.references import resolve_reference
+        v, _ = resolve_reference(None, {"file": "t.csv", "column": "cf", "where": {"model": "SST", "grid": "545x385"}},
+                                 self.root)
+        self.assertEqual(v, 0.0027174)
+
+    def test_no_match_and_several_matches_are_errors(self):
+        from harness.references import resolve_reference
+        with self.assertRaisesRegex(HarnessError, "no row where"):
+            resolve_reference(None, {"file": "t.csv", "column": "cf", "where": {"model": "kw"}}, self.root)
+        with self.assertRaisesRegex(HarnessError, "2 rows match"):
+            resolve_reference(None, {"file": "t.csv", "column": "cf", "where": {"model": "SA"}}, self.root)
+
+    def test_text_column_is_not_numeric(self):
+        from harness.reference import ReferenceFile
+        with self.assertRaisesRegex(HarnessError, "not numeric"):
+            ReferenceFile(self.root, "t.csv").column("model")
