@@ -1,6 +1,7 @@
 #include "turbulence/model.hpp"
 
 #include "core/error.hpp"
+#include "turbulence/menter_sst.hpp"
 #include "turbulence/spalart_allmaras.hpp"
 
 namespace narwhal {
@@ -9,6 +10,7 @@ const std::vector<TurbulenceModelInfo>& turbulence_models() {
   static const std::vector<TurbulenceModelInfo> models = {
       {"laminar", "no turbulence model"},
       {"sa", "Spalart-Allmaras one-equation model, SA-neg as on NASA TMR (turbulence/spalart_allmaras.hpp)"},
+      {"sst", "Menter SST k-omega, the 2003 version as on NASA TMR (turbulence/menter_sst.hpp)"},
   };
   return models;
 }
@@ -16,6 +18,7 @@ const std::vector<TurbulenceModelInfo>& turbulence_models() {
 std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings& s, const Grid& g) {
   if (s.model == "laminar") return nullptr;
   if (s.model == "sa") return std::make_unique<SpalartAllmaras>(s, g);
+  if (s.model == "sst") return std::make_unique<MenterSst>(s, g);
   std::string valid;
   for (const auto& m : turbulence_models()) valid += (valid.empty() ? "" : ", ") + ("'" + m.name + "'");
   fail("unknown turbulence model '{}': valid models are {}", s.model, valid);

@@ -19,7 +19,7 @@ TurbState SpalartAllmaras::freestream(Real nu) const {
   return TurbState(settings_.freestream_nut_ratio * nu, 0.0);
 }
 
-TurbState SpalartAllmaras::diffusivity(const TurbState& phi, Real nu) const {
+TurbState SpalartAllmaras::diffusivity(const TurbState& phi, Real nu, const TurbState&) const {
   const Real nt = phi[0];
   if (nt >= 0.0) return TurbState((nu + nt) / sigma, 0.0);
   const Real chi3 = std::pow(nt / nu, 3);
@@ -27,11 +27,13 @@ TurbState SpalartAllmaras::diffusivity(const TurbState& phi, Real nu) const {
 }
 
 TransportModel::FaceDiffusivity SpalartAllmaras::face_diffusivity(const TurbState& phiL, const TurbState& phiR,
-                                                                  Real nu) const {
+                                                                  Real nu, const TurbState& auxL,
+                                                                  const TurbState& auxR) const {
   // (1 + cb2) times the face coefficient minus cb2 times each cell's own (SA-neg's
   // f_n form below zero through `diffusivity`).
-  const TurbState face = 0.5 * (diffusivity(phiL, nu) + diffusivity(phiR, nu));
-  return {(1.0 + cb2) * face - cb2 * diffusivity(phiL, nu), (1.0 + cb2) * face - cb2 * diffusivity(phiR, nu)};
+  const TurbState dL = diffusivity(phiL, nu, auxL), dR = diffusivity(phiR, nu, auxR);
+  const TurbState face = 0.5 * (dL + dR);
+  return {(1.0 + cb2) * face - cb2 * dL, (1.0 + cb2) * face - cb2 * dR};
 }
 
 Real SpalartAllmaras::nut(const TurbState& phi, const CellFlow& c) const {

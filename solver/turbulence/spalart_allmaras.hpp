@@ -44,8 +44,9 @@ class SpalartAllmaras final : public TransportModel {
  protected:
   TurbState freestream(Real nu) const override;
   TurbState wall_value(Real, Real) const override { return TurbState::Zero(); }
-  TurbState diffusivity(const TurbState& phi, Real nu) const override;
-  FaceDiffusivity face_diffusivity(const TurbState& phiL, const TurbState& phiR, Real nu) const override;
+  TurbState diffusivity(const TurbState& phi, Real nu, const TurbState& aux) const override;
+  FaceDiffusivity face_diffusivity(const TurbState& phiL, const TurbState& phiR, Real nu, const TurbState& auxL,
+                                   const TurbState& auxR) const override;
   Real nut(const TurbState& phi, const CellFlow& c) const override;
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "bc/boundary.hpp"
 #include "mesh/ghost_sweep.hpp"
@@ -36,6 +37,19 @@ TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) : set
     w.R.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.D.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.dphi.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
+    w.aux.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
+    w.d1.resize(b.ni, b.nj, b.nk, 0, 0.0);
+    for (const Patch& p : b.patches) {
+      if (p.type != BcType::Wall) continue;
+      PatchRange r{p.lo, p.hi};
+      r.lo[side_dir(p.side)] = 0;
+      r.hi[side_dir(p.side)] = 1;
+      for_each_in(r, [&](Index3 c) {
+        Real& d = w.d1(interior_cell(b, p.side, c, 1));
+        const Real dc = wall_distance(b, p.side, c);
+        d = d > 0.0 ? std::min(d, dc) : dc;  // a corner cell takes its nearer wall
+      });
+    }
     work_.push_back(std::move(w));
   }
 }
@@ -46,6 +60,22 @@ void TransportModel::initialize(const Grid& g, FlowField& f, const FlowParams& f
   for (const Block& b : g.blocks) f.turb.emplace_back(b.ni, b.nj, b.nk, kGhost, TurbState::Zero());
   const TurbState inf = freestream(1.0 / fp.reynolds);
   for (auto& t : f.turb) t.fill(inf);
+  apply_wall_cell_values(f, 1.0 / fp.reynolds);
+}
+
+void TransportModel::apply_wall_cell_values(FlowField& f, Real nu) const {
+  for (std::size_t ib = 0; ib < work_.size(); ++ib) {
+    const auto& d1 = work_[ib].d1;
+    for (int k = 0; k < d1.nk(); ++k)
+      for (int j = 0; j < d1.nj(); ++j)
+        for (int i = 0; i < d1.ni(); ++i) {
+          if (d1(i, j, k) <= 0.0) continue;
+          for (int m = 0; m < num_variables(); ++m) {
+            Real v;
+            if (wall_cell_value(m, nu, d1(i, j, k), v)) f.turb[ib](i, j, k)[m] = v;
+          }
+        }
+  }
 }
 
 void TransportModel::fill_scalar_ghosts(Grid& g, FlowField& f, const FlowParams& fp) const {
@@ -145,6 +175,25 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
   TurbulenceNorms norms;
   for (int it = 0; it < settings_.iterations; ++it) {
     fill_scalar_ghosts(g, f, fp);
+    // Auxiliary cell values, and their first ghost layer (donor values across interfaces).
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+      for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
+        work_[ib].aux(i, j, k) = cell_aux(f.turb[ib](i, j, k), cell_flow(g.blocks[ib], static_cast<int>(ib), f, fp, {i, j, k}, true));
+      });
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      const Block& b = g.blocks[ib];
+      for (const Patch& p : b.patches) {
+        PatchRange r{p.lo, p.hi};
+        r.lo[side_dir(p.side)] = 0;
+        r.hi[side_dir(p.side)] = 1;
+        for_each_in(r, [&](Index3 c) {
+          const Index3 gc = ghost_cell(b, p.side, c, 1);
+          work_[ib].aux(gc) = p.type == BcType::Interface
+                                  ? work_[g.interfaces[p.interface].donor].aux(g.interfaces[p.interface].map_cell(gc))
+                                  : work_[ib].aux(interior_cell(b, p.side, c, 1));
+        });
+      }
+    }
     std::size_t cells = 0;
     for (int m = 0; m < nv; ++m) norms.l2[m] = 0.0;
     for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
@@ -156,7 +205,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
       GhostArray<Real> lam(b.ni, b.nj, b.nk, 0, 0.0);  // spectral radius for the pseudo-time term
       // Thin-layer diffusion coefficients Gamma |S|^2 / V_f for the left and right cells.
       auto face_coeff = [&](int d, const Index3& cL, const Index3& cR, const Index3& fi) {
-        FaceDiffusivity fd = face_diffusivity(T(cL), T(cR), nu);
+        FaceDiffusivity fd = face_diffusivity(T(cL), T(cR), nu, w.aux(cL), w.aux(cR));
         const Real geo = b.S[d](fi).squaredNorm() / (0.5 * (b.vol(cL) + b.vol(cR)));
         fd.left *= geo;
         fd.right *= geo;
@@ -232,6 +281,13 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
         const Real V = b.vol(c);
         w.R(c) -= V * src.value;
         w.D(c) += V * implicit + TurbState::Constant(lam(c) / cfl_t);
+        if (w.d1(c) > 0.0)
+          for (int m = 0; m < nv; ++m) {
+            Real v;
+            if (!wall_cell_value(m, nu, w.d1(c), v)) continue;
+            w.R(c)[m] = 0.0;  // a fixed value: no equation, no correction
+            w.D(c)[m] = std::numeric_limits<Real>::max();
+          }
         for (int m = 0; m < nv; ++m) {
           if (!(w.D(c)[m] > 0.0)) w.D(c)[m] = lam(c) > 0.0 ? lam(c) : 1.0;  // keep the relaxation defined
           norms.l2[m] += (w.R(c)[m] / V) * (w.R(c)[m] / V);
@@ -280,6 +336,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
         phi += settings_.relaxation * limit_update(phi, work_[ib].dphi(i, j, k));
         if (nv < 2) phi[1] = 0.0;
       });
+    apply_wall_cell_values(f, nu);
   }
   update_viscosity(g, f, fp);
   return norms;

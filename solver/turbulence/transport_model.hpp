@@ -45,15 +45,22 @@ class TransportModel : public TurbulenceModel {
  protected:
   virtual TurbState freestream(Real nu) const = 0;
   virtual TurbState wall_value(Real nu, Real d1) const = 0;  // at the wall face; d1: first cell centre
-  virtual TurbState diffusivity(const TurbState& phi, Real nu) const = 0;
+  // Variables fixed in wall-adjacent cells (SST's omega: its near-wall solution at the
+  // cell centre); returns false for variables solved there.
+  virtual bool wall_cell_value(int /*m*/, Real /*nu*/, Real /*d1*/, Real& /*value*/) const { return false; }
+  // Per-cell auxiliary values computed once per iteration from the cell's flow
+  // (SST: the blending F1 and nu_t); passed to the diffusivities. Default: none.
+  virtual TurbState cell_aux(const TurbState& /*phi*/, const CellFlow& /*c*/) const { return TurbState::Zero(); }
+  virtual TurbState diffusivity(const TurbState& phi, Real nu, const TurbState& aux) const = 0;
   // Diffusion coefficients of a face as seen by its left and right cells (equal for
   // a conservative term; SA's cb2 form differs per side). Default: the face average
   // of `diffusivity` for both.
   struct FaceDiffusivity {
     TurbState left, right;
   };
-  virtual FaceDiffusivity face_diffusivity(const TurbState& phiL, const TurbState& phiR, Real nu) const {
-    const TurbState g = 0.5 * (diffusivity(phiL, nu) + diffusivity(phiR, nu));
+  virtual FaceDiffusivity face_diffusivity(const TurbState& phiL, const TurbState& phiR, Real nu,
+                                           const TurbState& auxL, const TurbState& auxR) const {
+    const TurbState g = 0.5 * (diffusivity(phiL, nu, auxL) + diffusivity(phiR, nu, auxR));
     return {g, g};
   }
   virtual PointSource source(const TurbState& phi, const CellFlow& c) const = 0;
@@ -74,8 +81,10 @@ class TransportModel : public TurbulenceModel {
   struct Work {
     std::array<GhostArray<Real>, 3> U;
     std::array<GhostArray<TurbState>, 3> aL, aR;
-    GhostArray<TurbState> R, D, dphi;
+    GhostArray<TurbState> R, D, dphi, aux;
+    GhostArray<Real> d1;  // wall-adjacent cells: distance of the centre to the wall face; 0 elsewhere
   };
+  void apply_wall_cell_values(FlowField& f, Real nu) const;
   std::vector<Work> work_;
 };
 

@@ -9,6 +9,7 @@
 #include "app/driver.hpp"
 #include "mesh/ghost_sweep.hpp"
 #include "test_support.hpp"
+#include "turbulence/menter_sst.hpp"
 #include "turbulence/spalart_allmaras.hpp"
 #include "turbulence/wall_distance.hpp"
 
@@ -110,6 +111,35 @@ TEST(SpalartAllmaras, LogLayerPointSourceBalancesTheDiffusionTerm) {
   const PointSource n = sa.source(TurbState(-0.1 * kappa * utau * y, 0.0), cf);
   EXPECT_GT(n.value[0], 0.0);
   EXPECT_GT(n.implicit[0], 0.0);
+}
+
+TEST(MenterSst, LogLayerEquilibriumOfTheInnerSet) {
+  // Log layer: k = u_tau^2/sqrt(beta*), omega = u_tau/(sqrt(beta*) kappa y), nu_t = kappa u_tau y.
+  // F1 = 1 there; the k source (production - destruction) vanishes, and the omega point
+  // source is (gamma1 - beta1/beta*) u_tau^2/(kappa y)^2 (the diffusion term balances
+  // the rest up to SST-2003's rounded gamma1 = 5/9).
+  const Real kappa = 0.41, bstar = 0.09, utau = 0.05, y = 1e-3;
+  Grid g;
+  g.blocks.push_back(make_box("b", {0, 1}, {0, 1}, {0, 1}));
+  for (auto& p : g.blocks[0].patches) p.type = BcType::Farfield;
+  finalize_grid(g);
+  const MenterSst sst(TurbulenceSettings{}, g);
+  CellFlow cf;
+  cf.grad_u.setZero();
+  cf.grad_u(0, 1) = utau / (kappa * y);
+  cf.grad_phi.setZero();
+  cf.d = y;
+  cf.nu = 1e-12;
+  const TurbState phi(utau * utau / std::sqrt(bstar), utau / (std::sqrt(bstar) * kappa * y));
+  const TurbState aux = sst.cell_aux(phi, cf);
+  EXPECT_NEAR(aux[0], 1.0, 1e-12);                  // F1
+  EXPECT_NEAR(aux[1] / (kappa * utau * y), 1.0, 1e-12);  // nu_t
+  const PointSource s = sst.source(phi, cf);
+  const Real scale_k = utau * utau * utau / (kappa * y), scale_w = utau * utau / (kappa * kappa * y * y);
+  EXPECT_NEAR(s.value[0] / scale_k, 0.0, 1e-12);
+  EXPECT_NEAR(s.value[1] / scale_w, 5.0 / 9.0 - 0.075 / bstar, 1e-12);
+  EXPECT_GT(s.implicit[0], 0.0);
+  EXPECT_GT(s.implicit[1], 0.0);
 }
 
 TEST(TransportModel, UniformFreeStreamStaysUniformOnAPerturbedGrid) {
