@@ -43,12 +43,9 @@ TurbState MenterSst::freestream(Real nu) const {
   return TurbState(k, k / (settings_.freestream_nut_ratio * nu));
 }
 
-TurbState MenterSst::wall_value(Real nu, Real d1) const { return TurbState(0.0, 60.0 * nu / (beta1 * d1 * d1)); }
-
-bool MenterSst::wall_cell_value(int m, Real nu, Real d1, Real& value) const {
-  if (m != 1) return false;
-  value = 6.0 * nu / (beta1 * d1 * d1);
-  return true;
+TurbState MenterSst::wall_value(Real nu, Real d1) const {
+  const Real dy1 = 2.0 * d1;  // the first node off the wall: the wall cell's height
+  return TurbState(0.0, 60.0 * nu / (beta1 * dy1 * dy1));
 }
 
 Real MenterSst::nut(const TurbState& phi, const CellFlow& c) const {

@@ -15,11 +15,13 @@
 //   each of sigma_k, sigma_w, beta, gamma blended phi = F1 phi1 + (1 - F1) phi2.
 // Constants: sigma_k1 0.85, sigma_w1 0.5, beta1 0.075, gamma1 5/9; sigma_k2 1.0,
 //            sigma_w2 0.856, beta2 0.0828, gamma2 0.44; beta* 0.09, a1 0.31.
-// Wall: k = 0; omega fixed in the wall-adjacent cells to its viscous-sublayer solution
-// 6 nu/(beta1 d1^2) at the cell centre (d1 its wall distance). A wall value imposed
-// through a linear ghost instead (Menter's 60 nu/(beta1 d1^2)) made Cf(0.97) fall by
-// 3-7 % as the wall value grew from 1x to 100x on the 69x49 level: the 1/y^2 profile
-// is not linear across half a cell; the cell value removes that dependence. Free stream: k from turbulence.intensity
+// Wall: k = 0; omega_w = 10 x 6 nu/(beta1 dy1^2) (Menter) with dy1 the distance of the
+// first node off the wall (twice the wall cell centre's distance d1), through the ghost
+// 2 omega_w - omega_1. Measured on the nested TMR plate levels 35/69/137: with dy1 = d1
+// Cf(0.97) was 3.7/2.2/1.3 % below TMR's incompressible codes on the same levels and
+// converged at first order (273: -1.1 % from their finest value); with the node distance
+// 0.633/0.657/0.686 e-2 against their 0.258/0.265/0.269 e-2. Fixing omega in the wall
+// cell to its sublayer solution 6 nu/(beta1 d1^2) behaved like dy1 = d1. Free stream: k from turbulence.intensity
 // (k = 1.5 Tu^2), omega = k/(ratio nu) with ratio = turbulence.freestream_nut_ratio;
 // TMR's plate: k = 9e-9 a^2 at M = 0.2 (Tu = 3.873e-4), nu_t/nu = 0.009.
 // Discretization as transport_model.hpp; the cross-diffusion term is an explicit point
@@ -47,7 +49,6 @@ class MenterSst final : public TransportModel {
  protected:
   TurbState freestream(Real nu) const override;
   TurbState wall_value(Real nu, Real d1) const override;
-  bool wall_cell_value(int m, Real nu, Real d1, Real& value) const override;
   TurbState diffusivity(const TurbState& phi, Real nu, const TurbState& aux) const override;
   Real nut(const TurbState& phi, const CellFlow& c) const override;
   TurbState limit_update(const TurbState& phi, const TurbState& dphi) const override;

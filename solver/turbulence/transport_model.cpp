@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "bc/boundary.hpp"
 #include "mesh/ghost_sweep.hpp"
@@ -38,18 +37,6 @@ TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) : set
     w.D.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.dphi.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
     w.aux.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
-    w.d1.resize(b.ni, b.nj, b.nk, 0, 0.0);
-    for (const Patch& p : b.patches) {
-      if (p.type != BcType::Wall) continue;
-      PatchRange r{p.lo, p.hi};
-      r.lo[side_dir(p.side)] = 0;
-      r.hi[side_dir(p.side)] = 1;
-      for_each_in(r, [&](Index3 c) {
-        Real& d = w.d1(interior_cell(b, p.side, c, 1));
-        const Real dc = wall_distance(b, p.side, c);
-        d = d > 0.0 ? std::min(d, dc) : dc;  // a corner cell takes its nearer wall
-      });
-    }
     work_.push_back(std::move(w));
   }
 }
@@ -60,22 +47,6 @@ void TransportModel::initialize(const Grid& g, FlowField& f, const FlowParams& f
   for (const Block& b : g.blocks) f.turb.emplace_back(b.ni, b.nj, b.nk, kGhost, TurbState::Zero());
   const TurbState inf = freestream(1.0 / fp.reynolds);
   for (auto& t : f.turb) t.fill(inf);
-  apply_wall_cell_values(f, 1.0 / fp.reynolds);
-}
-
-void TransportModel::apply_wall_cell_values(FlowField& f, Real nu) const {
-  for (std::size_t ib = 0; ib < work_.size(); ++ib) {
-    const auto& d1 = work_[ib].d1;
-    for (int k = 0; k < d1.nk(); ++k)
-      for (int j = 0; j < d1.nj(); ++j)
-        for (int i = 0; i < d1.ni(); ++i) {
-          if (d1(i, j, k) <= 0.0) continue;
-          for (int m = 0; m < num_variables(); ++m) {
-            Real v;
-            if (wall_cell_value(m, nu, d1(i, j, k), v)) f.turb[ib](i, j, k)[m] = v;
-          }
-        }
-  }
 }
 
 void TransportModel::fill_scalar_ghosts(Grid& g, FlowField& f, const FlowParams& fp) const {
@@ -111,33 +82,55 @@ void TransportModel::fill_scalar_ghosts(Grid& g, FlowField& f, const FlowParams&
   });
 }
 
-CellFlow TransportModel::cell_flow(const Block& b, int ib, const FlowField& f, const FlowParams& fp, const Index3& c,
-                                   bool with_phi_gradient) const {
-  // Green-Gauss over the six faces with face values averaged from the two cells (§8.1).
-  CellFlow cf;
-  cf.grad_u.setZero();
-  cf.grad_phi.setZero();
-  const auto& Q = f.Q[ib];
-  const auto& T = f.turb[ib];
+namespace {
+// Green-Gauss velocity gradient of a cell, face values averaged from the two cells (§8.1).
+Mat3 velocity_gradient(const Block& b, const GhostArray<State>& Q, const Index3& c) {
+  Mat3 G = Mat3::Zero();
   for (int d = 0; d < 3; ++d) {
     if (d == b.planar_dir) continue;  // the two plane faces cancel
     const Index3 e = unit(d);
     const Index3 up = add(c, e), dn = add(c, e, -1);
-    const Vec3& Sup = b.S[d](up);
-    const Vec3& Sdn = b.S[d](c);
-    const Vec3 uup = 0.5 * (Q(c).tail<3>() + Q(up).tail<3>());
-    const Vec3 udn = 0.5 * (Q(c).tail<3>() + Q(dn).tail<3>());
-    cf.grad_u += uup * Sup.transpose() - udn * Sdn.transpose();
-    if (with_phi_gradient) {
-      const TurbState tup = 0.5 * (T(c) + T(up)), tdn = 0.5 * (T(c) + T(dn));
-      cf.grad_phi += Sup * tup.transpose() - Sdn * tdn.transpose();
-    }
+    G += 0.5 * (Q(c).tail<3>() + Q(up).tail<3>()) * b.S[d](up).transpose() -
+         0.5 * (Q(c).tail<3>() + Q(dn).tail<3>()) * b.S[d](c).transpose();
   }
+  return G / b.vol(c);
+}
+}  // namespace
+
+CellFlow TransportModel::cell_flow(const Block& b, int ib, const FlowField& f, const FlowParams& fp, const Index3& c,
+                                   bool with_phi_gradient) const {
+  // Green-Gauss over the faces with face values averaged from the two cells (§8.1).
+  CellFlow cf;
+  cf.grad_u = velocity_gradient(b, f.Q[ib], c);
+  cf.grad_phi.setZero();
   const Real inv_v = 1.0 / b.vol(c);
-  cf.grad_u *= inv_v;
-  cf.grad_phi *= inv_v;
+  if (with_phi_gradient) {
+    const auto& T = f.turb[ib];
+    for (int d = 0; d < 3; ++d) {
+      if (d == b.planar_dir) continue;
+      const Index3 e = unit(d);
+      const Index3 up = add(c, e), dn = add(c, e, -1);
+      cf.grad_phi += b.S[d](up) * (0.5 * (T(c) + T(up))).transpose() - b.S[d](c) * (0.5 * (T(c) + T(dn))).transpose();
+    }
+    cf.grad_phi *= inv_v;
+  }
   cf.d = wall_.d[ib](c);
   cf.nu = 1.0 / fp.reynolds;
+  const auto& GU = work_[ib].grad_u;
+  if (GU.ni() == b.ni && needs_velocity_hessian()) {
+    Real h2 = 0.0;
+    for (int l = 0; l < 3; ++l) {
+      Mat3 H = Mat3::Zero();  // d/dx_l of grad u
+      for (int d = 0; d < 3; ++d) {
+        if (d == b.planar_dir) continue;
+        const Index3 e = unit(d);
+        const Index3 up = add(c, e), dn = add(c, e, -1);
+        H += 0.5 * (GU(c) + GU(up)) * b.S[d](up)[l] - 0.5 * (GU(c) + GU(dn)) * b.S[d](c)[l];
+      }
+      h2 += (H * inv_v).squaredNorm();
+    }
+    cf.hessian_u2 = h2;
+  }
   return cf;
 }
 
@@ -172,6 +165,32 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
   }
 
   const TurbState inf = freestream(nu);
+  if (needs_velocity_hessian()) {
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      const Block& b = g.blocks[ib];
+      auto& GU = work_[ib].grad_u;
+      if (GU.ni() != b.ni) GU.resize(b.ni, b.nj, b.nk, 1, Mat3::Zero());
+      for_each_cell(b, [&](int i, int j, int k) { GU(i, j, k) = velocity_gradient(b, f.Q[ib], {i, j, k}); });
+    }
+    // First ghost layer: donors across interfaces, the adjacent cell elsewhere.
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      const Block& b = g.blocks[ib];
+      for (const Patch& p : b.patches) {
+        PatchRange r{p.lo, p.hi};
+        r.lo[side_dir(p.side)] = 0;
+        r.hi[side_dir(p.side)] = 1;
+        for_each_in(r, [&](Index3 c) {
+          const Index3 gc = ghost_cell(b, p.side, c, 1);
+          if (p.type == BcType::Interface) {
+            const Interface& itf = g.interfaces[p.interface];
+            work_[ib].grad_u(gc) = itf.R * work_[itf.donor].grad_u(itf.map_cell(gc)) * itf.R.transpose();
+          } else {
+            work_[ib].grad_u(gc) = work_[ib].grad_u(interior_cell(b, p.side, c, 1));
+          }
+        });
+      }
+    }
+  }
   TurbulenceNorms norms;
   for (int it = 0; it < settings_.iterations; ++it) {
     fill_scalar_ghosts(g, f, fp);
@@ -281,13 +300,6 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
         const Real V = b.vol(c);
         w.R(c) -= V * src.value;
         w.D(c) += V * implicit + TurbState::Constant(lam(c) / cfl_t);
-        if (w.d1(c) > 0.0)
-          for (int m = 0; m < nv; ++m) {
-            Real v;
-            if (!wall_cell_value(m, nu, w.d1(c), v)) continue;
-            w.R(c)[m] = 0.0;  // a fixed value: no equation, no correction
-            w.D(c)[m] = std::numeric_limits<Real>::max();
-          }
         for (int m = 0; m < nv; ++m) {
           if (!(w.D(c)[m] > 0.0)) w.D(c)[m] = lam(c) > 0.0 ? lam(c) : 1.0;  // keep the relaxation defined
           norms.l2[m] += (w.R(c)[m] / V) * (w.R(c)[m] / V);
@@ -336,7 +348,6 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
         phi += settings_.relaxation * limit_update(phi, work_[ib].dphi(i, j, k));
         if (nv < 2) phi[1] = 0.0;
       });
-    apply_wall_cell_values(f, nu);
   }
   update_viscosity(g, f, fp);
   return norms;

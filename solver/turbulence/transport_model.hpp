@@ -24,6 +24,7 @@ struct CellFlow {
   Real d = 0.0;      // wall distance (+inf without walls)
   Real nu = 0.0;     // laminar kinematic viscosity 1/Re
   Eigen::Matrix<Real, 3, 2> grad_phi;  // gradients of the model variables
+  Real hessian_u2 = 0.0;  // sum over i, j, l of (d2 u_i / dx_j dx_l)^2 (models that ask for it)
 };
 
 struct PointSource {
@@ -45,9 +46,9 @@ class TransportModel : public TurbulenceModel {
  protected:
   virtual TurbState freestream(Real nu) const = 0;
   virtual TurbState wall_value(Real nu, Real d1) const = 0;  // at the wall face; d1: first cell centre
-  // Variables fixed in wall-adjacent cells (SST's omega: its near-wall solution at the
-  // cell centre); returns false for variables solved there.
-  virtual bool wall_cell_value(int /*m*/, Real /*nu*/, Real /*d1*/, Real& /*value*/) const { return false; }
+  // Second derivatives of the velocity (Launder-Sharma's E term): Green-Gauss applied
+  // to face-averaged cell gradients (§8.3).
+  virtual bool needs_velocity_hessian() const { return false; }
   // Per-cell auxiliary values computed once per iteration from the cell's flow
   // (SST: the blending F1 and nu_t); passed to the diffusivities. Default: none.
   virtual TurbState cell_aux(const TurbState& /*phi*/, const CellFlow& /*c*/) const { return TurbState::Zero(); }
@@ -82,9 +83,8 @@ class TransportModel : public TurbulenceModel {
     std::array<GhostArray<Real>, 3> U;
     std::array<GhostArray<TurbState>, 3> aL, aR;
     GhostArray<TurbState> R, D, dphi, aux;
-    GhostArray<Real> d1;  // wall-adjacent cells: distance of the centre to the wall face; 0 elsewhere
+    GhostArray<Mat3> grad_u;  // cell velocity gradients, one ghost layer (when the model needs the Hessian)
   };
-  void apply_wall_cell_values(FlowField& f, Real nu) const;
   std::vector<Work> work_;
 };
 
