@@ -130,9 +130,7 @@ void exchange_interfaces(const Grid& g, std::vector<GhostArray<State>>& field) {
     for (const Patch& p : b.patches) {
       if (p.type != BcType::Interface) continue;
       const Interface& itf = g.interfaces[p.interface];
-      PatchRange r{p.lo, p.hi};
-      r.lo[side_dir(p.side)] = 0;
-      r.hi[side_dir(p.side)] = 1;
+      const PatchRange r = face_range(p);
       for_each_in(r, [&](Index3 c) {
         const Index3 gc = ghost_cell(b, p.side, c, 1);
         field[ib](gc) = donor_state(itf, field[itf.donor], gc);

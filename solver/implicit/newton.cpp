@@ -183,9 +183,7 @@ void NewtonSolver::assemble_block(int ib, Real cfl) {
   for (const Patch& p : b.patches) {
     const int d = side_dir(p.side);
     if (d == b.planar_dir) continue;  // no coupling across the symmetry planes of a planar slab
-    PatchRange r{p.lo, p.hi};
-    r.lo[d] = 0;
-    r.hi[d] = 1;
+    const PatchRange r = face_range(p);
     if (p.type == BcType::Interface) {  // the neighbour's cells sit in the ghosts: an ordinary face
       for_each_in(r, [&](Index3 c) { interior_face(d, boundary_face_index(b, p.side, c)); });
       continue;
@@ -247,15 +245,7 @@ void NewtonSolver::sweep_block(int ib, bool forward) {
     }
     dQ(c) = Dinv(c) * r;
   };
-  if (forward) {
-    for (int k = 0; k < b.nk; ++k)
-      for (int j = 0; j < b.nj; ++j)
-        for (int i = 0; i < b.ni; ++i) relax(i, j, k);
-  } else {
-    for (int k = b.nk - 1; k >= 0; --k)
-      for (int j = b.nj - 1; j >= 0; --j)
-        for (int i = b.ni - 1; i >= 0; --i) relax(i, j, k);
-  }
+  for_each_cell_ordered(b, forward, relax);
 }
 
 Real NewtonSolver::ser_cfl(Real norm) {

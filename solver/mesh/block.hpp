@@ -106,6 +106,19 @@ void for_each_cell(const Block& b, F&& f) {
       for (int i = 0; i < b.ni; ++i) f(i, j, k);
 }
 
+// The same forward (memory order) or backward: the two halves of a symmetric
+// Gauss-Seidel sweep.
+template <class F>
+void for_each_cell_ordered(const Block& b, bool forward, F&& f) {
+  if (forward) {
+    for_each_cell(b, f);
+    return;
+  }
+  for (int k = b.nk - 1; k >= 0; --k)
+    for (int j = b.nj - 1; j >= 0; --j)
+      for (int i = b.ni - 1; i >= 0; --i) f(i, j, k);
+}
+
 // Recompute S, face centroids, volumes and centres over the whole ghost-extended
 // range (§2.2–2.3). Ghost nodes must be filled first.
 void compute_metrics(Block& b);

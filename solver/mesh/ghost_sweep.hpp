@@ -12,6 +12,15 @@ struct PatchRange {
   Index3 lo, hi;  // half-open cell range, normal direction excluded
 };
 
+// The boundary-adjacent cells of a patch (its range with the normal index 0): one
+// entry per boundary face; interior_cell/ghost_cell/boundary_face_index map it.
+inline PatchRange face_range(const Patch& p) {
+  PatchRange r{p.lo, p.hi};
+  r.lo[side_dir(p.side)] = 0;
+  r.hi[side_dir(p.side)] = 1;
+  return r;
+}
+
 // Tangential cell range of a patch, extended into ghosts for directions < dir.
 inline PatchRange extended_cell_range(const Block& b, const Patch& p) {
   const int d = side_dir(p.side);

@@ -111,9 +111,7 @@ void compute_residual(const Grid& g, const FlowField& fl, const FlowParams& fp, 
     }
     for (const Patch& p : b.patches) {
       if (side_dir(p.side) == b.planar_dir) continue;  // the two symmetry planes cancel (physics/planar.hpp)
-      PatchRange r{p.lo, p.hi};
-      r.lo[side_dir(p.side)] = 0;
-      r.hi[side_dir(p.side)] = 1;
+      const PatchRange r = face_range(p);
       for_each_in(r, [&](Index3 c) {
         const State F = boundary_face_flux(b, p, Q, nu, c, fp);
         const Index3 c1 = interior_cell(b, p.side, c, 1);

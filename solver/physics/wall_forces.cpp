@@ -22,9 +22,7 @@ void wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp,
       if (p.type != BcType::Wall) continue;
       auto& list = out[p.label];
       const int d = side_dir(p.side);
-      PatchRange r{p.lo, p.hi};
-      r.lo[d] = 0;
-      r.hi[d] = 1;
+      const PatchRange r = face_range(p);
       for_each_in(r, [&](Index3 c) {
         WallFace w;
         const Real dw = wall_distance(b, p.side, c, &w.n);

@@ -95,6 +95,27 @@ Mat3 velocity_gradient(const Block& b, const GhostArray<State>& Q, const Index3&
   }
   return G / b.vol(c);
 }
+// First ghost layer of a per-cell work array: the donor's value across interfaces
+// (tensors rotated by `rotate`), the adjacent interior cell at physical boundaries.
+template <class Array, class Rotate>
+void fill_first_ghost_layer(const Grid& g, Array array_of, Rotate rotate) {
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    const Block& b = g.blocks[ib];
+    auto& A = array_of(ib);
+    for (const Patch& p : b.patches) {
+      const PatchRange r = face_range(p);
+      for_each_in(r, [&](Index3 c) {
+        const Index3 gc = ghost_cell(b, p.side, c, 1);
+        if (p.type == BcType::Interface) {
+          const Interface& itf = g.interfaces[p.interface];
+          A(gc) = rotate(itf, array_of(static_cast<std::size_t>(itf.donor))(itf.map_cell(gc)));
+        } else {
+          A(gc) = A(interior_cell(b, p.side, c, 1));
+        }
+      });
+    }
+  }
+}
 }  // namespace
 
 CellFlow TransportModel::cell_flow(const Block& b, int ib, const FlowField& f, const FlowParams& fp, const Index3& c,
@@ -154,9 +175,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
     for (const Patch& p : b.patches) {
       const int d = side_dir(p.side);
       if (d == b.planar_dir) continue;
-      PatchRange r{p.lo, p.hi};
-      r.lo[d] = 0;
-      r.hi[d] = 1;
+      const PatchRange r = face_range(p);
       for_each_in(r, [&](Index3 c) {
         const Index3 fi = boundary_face_index(b, p.side, c);
         w.U[d](fi) = boundary_face_flux(b, p, f.Q[ib], f.nu[ib], c, fp)[0] / fp.beta + b.kt[d](fi);
@@ -172,24 +191,8 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
       if (GU.ni() != b.ni) GU.resize(b.ni, b.nj, b.nk, 1, Mat3::Zero());
       for_each_cell(b, [&](int i, int j, int k) { GU(i, j, k) = velocity_gradient(b, f.Q[ib], {i, j, k}); });
     }
-    // First ghost layer: donors across interfaces, the adjacent cell elsewhere.
-    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
-      const Block& b = g.blocks[ib];
-      for (const Patch& p : b.patches) {
-        PatchRange r{p.lo, p.hi};
-        r.lo[side_dir(p.side)] = 0;
-        r.hi[side_dir(p.side)] = 1;
-        for_each_in(r, [&](Index3 c) {
-          const Index3 gc = ghost_cell(b, p.side, c, 1);
-          if (p.type == BcType::Interface) {
-            const Interface& itf = g.interfaces[p.interface];
-            work_[ib].grad_u(gc) = itf.R * work_[itf.donor].grad_u(itf.map_cell(gc)) * itf.R.transpose();
-          } else {
-            work_[ib].grad_u(gc) = work_[ib].grad_u(interior_cell(b, p.side, c, 1));
-          }
-        });
-      }
-    }
+    fill_first_ghost_layer(g, [&](std::size_t ib) -> GhostArray<Mat3>& { return work_[ib].grad_u; },
+                           [](const Interface& itf, const Mat3& G) { return Mat3(itf.R * G * itf.R.transpose()); });
   }
   TurbulenceNorms norms;
   for (int it = 0; it < settings_.iterations; ++it) {
@@ -199,20 +202,8 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
       for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
         work_[ib].aux(i, j, k) = cell_aux(f.turb[ib](i, j, k), cell_flow(g.blocks[ib], static_cast<int>(ib), f, fp, {i, j, k}, true));
       });
-    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
-      const Block& b = g.blocks[ib];
-      for (const Patch& p : b.patches) {
-        PatchRange r{p.lo, p.hi};
-        r.lo[side_dir(p.side)] = 0;
-        r.hi[side_dir(p.side)] = 1;
-        for_each_in(r, [&](Index3 c) {
-          const Index3 gc = ghost_cell(b, p.side, c, 1);
-          work_[ib].aux(gc) = p.type == BcType::Interface
-                                  ? work_[g.interfaces[p.interface].donor].aux(g.interfaces[p.interface].map_cell(gc))
-                                  : work_[ib].aux(interior_cell(b, p.side, c, 1));
-        });
-      }
-    }
+    fill_first_ghost_layer(g, [&](std::size_t ib) -> GhostArray<TurbState>& { return work_[ib].aux; },
+                           [](const Interface&, const TurbState& a) { return a; });
     std::size_t cells = 0;
     for (int m = 0; m < nv; ++m) norms.l2[m] = 0.0;
     for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
@@ -258,9 +249,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
       for (const Patch& p : b.patches) {
         const int d = side_dir(p.side);
         if (d == b.planar_dir) continue;
-        PatchRange r{p.lo, p.hi};
-        r.lo[d] = 0;
-        r.hi[d] = 1;
+        const PatchRange r = face_range(p);
         const Real s = side_high(p.side) ? 1.0 : -1.0;
         for_each_in(r, [&](Index3 cc) {
           const Index3 fi = boundary_face_index(b, p.side, cc);
@@ -331,15 +320,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
           }
           w.dphi(c) = r.cwiseQuotient(w.D(c));
         };
-        if (forward) {
-          for (int k = 0; k < b.nk; ++k)
-            for (int j = 0; j < b.nj; ++j)
-              for (int i = 0; i < b.ni; ++i) relax(i, j, k);
-        } else {
-          for (int k = b.nk - 1; k >= 0; --k)
-            for (int j = b.nj - 1; j >= 0; --j)
-              for (int i = b.ni - 1; i >= 0; --i) relax(i, j, k);
-        }
+        for_each_cell_ordered(b, forward, relax);
       }
     }
     for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)

@@ -76,9 +76,7 @@ WallDistance compute_wall_distance(const Grid& g) {
     const Block& b = g.blocks[ib];
     for (const Patch& p : b.patches) {
       if (p.type != BcType::Wall) continue;
-      PatchRange r{p.lo, p.hi};
-      r.lo[side_dir(p.side)] = 0;
-      r.hi[side_dir(p.side)] = 1;
+      const PatchRange r = face_range(p);
       for_each_in(r, [&](Index3 c) {
         w.faces.push_back({static_cast<int>(ib), p.side, interior_cell(b, p.side, c, 1)});
         quads.push_back(face_quad(b, p.side, c));

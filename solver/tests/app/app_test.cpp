@@ -157,29 +157,33 @@ CaseConfig small_plate() {
   return parse_case(t, "small_plate.toml", ".");
 }
 
-TEST(Restart, ContinuingFromRestartReproducesTheUninterruptedHistory) {
-  const CaseConfig c = small_plate();
-  const fs::path dir = fs::temp_directory_path() / "narwhal_restart_test";
+// Runs `total` iterations uninterrupted and `first` + the rest from restart.h5; the
+// two histories must agree to the last digit.
+void expect_restart_reproduces_history(const CaseConfig& c, const std::string& name, int total, int first_part) {
+  const fs::path dir = fs::temp_directory_path() / name;
   fs::remove_all(dir);
   RunOptions full;
   full.out_dir = (dir / "full").string();
-  full.max_iterations = 40;
+  full.max_iterations = total;
   run_case(c, full);
   RunOptions first = full;
   first.out_dir = (dir / "split").string();
-  first.max_iterations = 20;
+  first.max_iterations = first_part;
   run_case(c, first);
+  fs::copy_file(dir / "split" / "restart.h5", dir / "restart_first.h5");
   RunOptions second = first;
-  second.max_iterations = 40;
-  second.restart = (dir / "split" / "restart.h5").string();
-  fs::copy_file(*second.restart, dir / "restart20.h5");
-  second.restart = (dir / "restart20.h5").string();
+  second.max_iterations = total;
+  second.restart = (dir / "restart_first.h5").string();
   run_case(c, second);
   const auto a = test::history_rows((dir / "full" / "history.csv").string());
   const auto b = test::history_rows((dir / "split" / "history.csv").string());
-  ASSERT_EQ(a.size(), 40u);
-  ASSERT_EQ(b.size(), 40u);
-  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "iteration " << i + 1;
+  ASSERT_EQ(a.size(), static_cast<std::size_t>(total)) << name;
+  ASSERT_EQ(b.size(), static_cast<std::size_t>(total)) << name;
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << name << " iteration " << i + 1;
+}
+
+TEST(Restart, ContinuingFromRestartReproducesTheUninterruptedHistory) {
+  expect_restart_reproduces_history(small_plate(), "narwhal_restart_test", 40, 20);
 }
 
 // The same with a turbulence model on multigrid: the model's variables, its residual
@@ -187,27 +191,8 @@ TEST(Restart, ContinuingFromRestartReproducesTheUninterruptedHistory) {
 TEST(Restart, TurbulentMultigridRunContinuesBitForBit) {
   for (const char* model : {"sa", "sst"}) {
     const std::string file = std::string("validation/cases/tmr_flat_plate/flat_plate_") + model + ".toml";
-    const CaseConfig c = load_case(test::source_path(file), {"grid.coarsen=3"});
-    const fs::path dir = fs::temp_directory_path() / (std::string("narwhal_restart_turb_") + model);
-    fs::remove_all(dir);
-    RunOptions full;
-    full.out_dir = (dir / "full").string();
-    full.max_iterations = 30;
-    run_case(c, full);
-    RunOptions first = full;
-    first.out_dir = (dir / "split").string();
-    first.max_iterations = 15;
-    run_case(c, first);
-    fs::copy_file(dir / "split" / "restart.h5", dir / "restart15.h5");
-    RunOptions second = first;
-    second.max_iterations = 30;
-    second.restart = (dir / "restart15.h5").string();
-    run_case(c, second);
-    const auto a = test::history_rows((dir / "full" / "history.csv").string());
-    const auto b = test::history_rows((dir / "split" / "history.csv").string());
-    ASSERT_EQ(a.size(), 30u) << model;
-    ASSERT_EQ(b.size(), 30u) << model;
-    for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << model << " iteration " << i + 1;
+    expect_restart_reproduces_history(load_case(test::source_path(file), {"grid.coarsen=3"}),
+                                      std::string("narwhal_restart_turb_") + model, 30, 15);
   }
 }
 

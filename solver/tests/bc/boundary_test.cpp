@@ -251,9 +251,7 @@ TEST(Conservation, CellResidualsSumToTheBoundaryFluxes) {
         for (int i = 0; i < b.ni; ++i) sum_cells += R[ib](i, j, k);
     for (const Patch& p : b.patches) {
       if (p.type == BcType::Interface) continue;
-      PatchRange r{p.lo, p.hi};
-      r.lo[side_dir(p.side)] = 0;
-      r.hi[side_dir(p.side)] = 1;
+      const PatchRange r = face_range(p);
       for_each_in(r, [&](Index3 c) {
         const State F = boundary_face_flux(b, p, f.Q[ib], f.nu[ib], c, fp);
         sum_boundary += side_high(p.side) ? F : State(-F);

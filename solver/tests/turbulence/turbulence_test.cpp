@@ -87,22 +87,34 @@ TEST(WallDistance, BucketSearchEqualsBruteForce) {
   EXPECT_LE(worst, 1e-14);
 }
 
+// A one-cell grid (the models need one to exist) and a log-layer cell: du/dy =
+// u_tau/(kappa y) at wall distance y, laminar viscosity small enough to vanish.
+Grid unit_cell_grid() {
+  Grid g;
+  g.blocks.push_back(make_box("b", {0, 1}, {0, 1}, {0, 1}));
+  for (auto& p : g.blocks[0].patches) p.type = BcType::Farfield;
+  finalize_grid(g);
+  return g;
+}
+
+CellFlow log_layer_cell(Real utau, Real kappa, Real y) {
+  CellFlow cf;
+  cf.grad_u.setZero();
+  cf.grad_u(0, 1) = utau / (kappa * y);
+  cf.grad_phi.setZero();
+  cf.d = y;
+  cf.nu = 1e-12;
+  return cf;
+}
+
 TEST(SpalartAllmaras, LogLayerPointSourceBalancesTheDiffusionTerm) {
   // In the log layer nu~ = kappa u_tau y, Omega = u_tau/(kappa y), r = 1, fw = 1; the
   // point source must equal minus the diffusion terms, -(1 + cb2) kappa^2 u_tau^2 / sigma,
   // which is how cw1 is defined. chi is huge so that fv2 and ft2 vanish.
   const Real kappa = 0.41, cb2 = 0.622, sigma = 2.0 / 3.0, utau = 0.05, y = 1e-3;
-  Grid g;
-  g.blocks.push_back(make_box("b", {0, 1}, {0, 1}, {0, 1}));
-  for (auto& p : g.blocks[0].patches) p.type = BcType::Farfield;
-  finalize_grid(g);
+  const Grid g = unit_cell_grid();
   const SpalartAllmaras sa(TurbulenceSettings{}, g);
-  CellFlow cf;
-  cf.grad_u.setZero();
-  cf.grad_u(0, 1) = utau / (kappa * y);  // du/dy
-  cf.grad_phi.setZero();
-  cf.d = y;
-  cf.nu = 1e-12;
+  const CellFlow cf = log_layer_cell(utau, kappa, y);
   const PointSource s = sa.source(TurbState(kappa * utau * y, 0.0), cf);
   const Real expected = -(1.0 + cb2) * kappa * kappa * utau * utau / sigma;
   EXPECT_NEAR(s.value[0] / expected, 1.0, 1e-5);
@@ -119,17 +131,9 @@ TEST(MenterSst, LogLayerEquilibriumOfTheInnerSet) {
   // source is (gamma1 - beta1/beta*) u_tau^2/(kappa y)^2 (the diffusion term balances
   // the rest up to SST-2003's rounded gamma1 = 5/9).
   const Real kappa = 0.41, bstar = 0.09, utau = 0.05, y = 1e-3;
-  Grid g;
-  g.blocks.push_back(make_box("b", {0, 1}, {0, 1}, {0, 1}));
-  for (auto& p : g.blocks[0].patches) p.type = BcType::Farfield;
-  finalize_grid(g);
+  const Grid g = unit_cell_grid();
   const MenterSst sst(TurbulenceSettings{}, g);
-  CellFlow cf;
-  cf.grad_u.setZero();
-  cf.grad_u(0, 1) = utau / (kappa * y);
-  cf.grad_phi.setZero();
-  cf.d = y;
-  cf.nu = 1e-12;
+  const CellFlow cf = log_layer_cell(utau, kappa, y);
   const TurbState phi(utau * utau / std::sqrt(bstar), utau / (std::sqrt(bstar) * kappa * y));
   const TurbState aux = sst.cell_aux(phi, cf);
   EXPECT_NEAR(aux[0], 1.0, 1e-12);                  // F1
