@@ -73,6 +73,8 @@ def _plot_check(check, path):
             a2.axhspan(-tol, tol, color="tab:green", alpha=0.12, label="tolerance")
             a2.legend()
         a2.set_ylabel("error [%]" if p["relative"] else "error")
+        if check.get("options", {}).get("log_x"):  # e.g. u+(y+)
+            a2.set_xscale("log")
     else:
         fig, ax = plt.subplots(figsize=(6.4, 4.4))
         h, v = np.array(p["h"]), np.abs(np.array(p["values"]))

@@ -101,7 +101,7 @@ def run_rung(rung, tier, narwhal, out_dir, root):
             if tier not in c.tiers:
                 continue
             entry = {"name": c.name, "comparator": c.comparator, "tolerance": c.tolerance, "rationale": c.rationale,
-                     "reference_source": ""}
+                     "options": c.options, "reference_source": ""}
             try:
                 computed = extract(ctx, c.extract)
                 ref_run = c.extract.get("run") or next((r.id for r in runs if r.family == c.extract.get("family")), None)
