@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     if (*list_models) {
-      for (const auto& m : turbulence_models()) fmt::print("{:<10} {}\n", m.name, m.summary);
+      for (const auto& m : turbulence_models()) fmt::print("{:<14} {}\n", m.name, m.summary);
       return 0;
     }
     if (*check) return check_case(check_path, overrides);

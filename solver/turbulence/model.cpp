@@ -1,6 +1,7 @@
 #include "turbulence/model.hpp"
 
 #include "core/error.hpp"
+#include "turbulence/baldwin_lomax.hpp"
 #include "turbulence/menter_sst.hpp"
 #include "turbulence/spalart_allmaras.hpp"
 
@@ -9,6 +10,7 @@ namespace narwhal {
 const std::vector<TurbulenceModelInfo>& turbulence_models() {
   static const std::vector<TurbulenceModelInfo> models = {
       {"laminar", "no turbulence model"},
+      {"baldwin-lomax", "Baldwin-Lomax algebraic model (turbulence/baldwin_lomax.hpp)"},
       {"sa", "Spalart-Allmaras one-equation model, SA-neg as on NASA TMR (turbulence/spalart_allmaras.hpp)"},
       {"sst", "Menter SST k-omega, the 2003 version as on NASA TMR (turbulence/menter_sst.hpp)"},
   };
@@ -17,6 +19,7 @@ const std::vector<TurbulenceModelInfo>& turbulence_models() {
 
 std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings& s, const Grid& g) {
   if (s.model == "laminar") return nullptr;
+  if (s.model == "baldwin-lomax") return std::make_unique<BaldwinLomax>(s, g);
   if (s.model == "sa") return std::make_unique<SpalartAllmaras>(s, g);
   if (s.model == "sst") return std::make_unique<MenterSst>(s, g);
   std::string valid;

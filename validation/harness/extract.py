@@ -111,6 +111,39 @@ def wall_units(ctx, spec, run_id):
     return Curve(yp[keep], up[keep], "u+(y+)")
 
 
+def cf_vs_retheta(ctx, spec, run_id):
+    """Skin friction against the momentum-thickness Reynolds number along a single-block
+    plate: theta = int u/U_e (1 - u/U_e) dy per wall-normal column up to the edge, where
+    u first reaches 99.5 % of the column's largest value (U_e = u there; zero pressure
+    gradient); returns Cf(Re_theta) inside [re_min, re_max]."""
+    zones = ctx.solution(run_id)
+    if len(zones) != 1:
+        raise HarnessError("cf_vs_retheta expects a single-block plate grid")
+    z = zones[0]
+    re = float(ctx.resolve(run_id, spec.get("reynolds", "input:flow.reynolds")))
+    wall = surface(ctx, {"group": spec.get("group", "plate"), "y": "cf_x"}, run_id)
+    xc = z.centres[0, 0, :, 0]
+    ret, cf = [], []
+    for i, x0 in enumerate(xc):
+        if x0 <= wall.x.min() or x0 >= wall.x.max():
+            continue
+        u = z.fields["u"][0, :, i]
+        dy = np.diff(z.x[0, :, i + 1, 1])
+        # Edge: the first cell reaching 99.5 % of the column's largest u; beyond it the
+        # far-field's own small velocity variations would add to theta.
+        je = int(np.argmax(u >= 0.995 * u.max()))
+        ue = float(u[je])
+        r = np.minimum(u[: je + 1] / ue, 1.0)
+        theta = float(np.sum(r * (1.0 - r) * dy[: je + 1]))
+        ret.append(re * ue * theta)
+        cf.append(float(np.interp(x0, wall.x, wall.y)) / ue ** 2)
+    ret, cf = np.array(ret), np.array(cf)
+    keep = (ret >= float(spec.get("re_min", 0.0))) & (ret <= float(spec.get("re_max", np.inf)))
+    if not keep.any():
+        raise HarnessError(f"cf_vs_retheta: no station of '{run_id}' lies in the Re_theta range")
+    return Curve(ret[keep], cf[keep], "Cf(Re_theta)")
+
+
 def run_json(ctx, spec, run_id):
     with open(ctx.run_dir(run_id) / "run.json") as f:
         data = json.load(f)
@@ -259,7 +292,7 @@ def curve_difference(ctx, spec, run_id):
     return float(np.max(np.abs(a.y - b.y)))
 
 
-KINDS = {"surface": surface, "surface_at": surface_at, "wall_units": wall_units, "ratio": ratio, "curve_difference": curve_difference, "run_json": run_json, "history_last": history_last, "field_error": field_error, "boundary_layer": boundary_layer,
+KINDS = {"cf_vs_retheta": cf_vs_retheta, "surface": surface, "surface_at": surface_at, "wall_units": wall_units, "ratio": ratio, "curve_difference": curve_difference, "run_json": run_json, "history_last": history_last, "field_error": field_error, "boundary_layer": boundary_layer,
          "duct": duct, "history_difference": history_difference}
 
 

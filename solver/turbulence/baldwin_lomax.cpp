@@ -1,0 +1,96 @@
+#include "turbulence/baldwin_lomax.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "bc/boundary.hpp"
+#include "mesh/ghost_sweep.hpp"
+#include "physics/residual.hpp"
+
+namespace narwhal {
+
+namespace {
+constexpr Real kappa = 0.40, aplus = 26.0, ccp = 1.6, ckleb = 0.3, cwk = 0.25, kclauser = 0.0168;
+
+Real vorticity(const Block& b, const GhostArray<State>& Q, const Index3& c) {
+  Mat3 G = Mat3::Zero();
+  for (int d = 0; d < 3; ++d) {
+    if (d == b.planar_dir) continue;
+    const Index3 e = unit(d), up = add(c, e), dn = add(c, e, -1);
+    G += 0.5 * (Q(c).tail<3>() + Q(up).tail<3>()) * b.S[d](up).transpose() -
+         0.5 * (Q(c).tail<3>() + Q(dn).tail<3>()) * b.S[d](c).transpose();
+  }
+  G /= b.vol(c);
+  return Vec3(G(2, 1) - G(1, 2), G(0, 2) - G(2, 0), G(1, 0) - G(0, 1)).norm();
+}
+}  // namespace
+
+void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) {
+  const Real nu = 1.0 / fp.reynolds;
+  const Real w = settings_.relaxation;
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    const Block& b = g.blocks[ib];
+    const auto& Q = f.Q[ib];
+    GhostArray<Real> nut(b.ni, b.nj, b.nk, 0, 0.0), ywall(b.ni, b.nj, b.nk, 0, std::numeric_limits<Real>::infinity());
+    for (const Patch& p : b.patches) {
+      if (p.type != BcType::Wall) continue;
+      const int d = side_dir(p.side);
+      for_each_in(face_range(p), [&](Index3 c) {
+        Vec3 n;
+        const Real d1 = wall_distance(b, p.side, c, &n);
+        const Vec3 xw = b.xf[d](boundary_face_index(b, p.side, c));
+        const Index3 c1 = interior_cell(b, p.side, c, 1);
+        const Vec3 ut1 = Q(c1).tail<3>() - p.velocity - n.dot(Q(c1).tail<3>() - p.velocity) * n;
+        const Real utau = std::sqrt(nu * ut1.norm() / d1);
+        // The line: cells at depth 1 .. n(d) from this wall.
+        const int len = b.n(d);
+        std::vector<Real> y(len), om(len), F(len);
+        Real fmax = 0.0, ymax = 0.0, fpeak = 0.0, udif = 0.0;
+        bool past_peak = false;
+        for (int m = 0; m < len; ++m) {
+          const Index3 cm = interior_cell(b, p.side, c, m + 1);
+          y[m] = n.dot(b.xc(cm) - xw);
+          om[m] = vorticity(b, Q, cm);
+          udif = std::max(udif, (Q(cm).tail<3>() - p.velocity).norm());
+          const Real damp = 1.0 - std::exp(-fp.reynolds * utau * y[m] / aplus);
+          F[m] = y[m] * om[m] * damp;
+          if (!past_peak) {
+            if (F[m] > fpeak) {
+              fpeak = F[m];
+              fmax = F[m];
+              ymax = y[m];
+            } else if (F[m] < 0.9 * fpeak) {
+              past_peak = true;  // Degani-Schiff: the first peak
+            }
+          }
+        }
+        const Real fwake = fmax > 0.0 ? std::min(ymax * fmax, cwk * ymax * udif * udif / fmax) : 0.0;
+        bool outer = false;
+        for (int m = 0; m < len; ++m) {
+          const Index3 cm = interior_cell(b, p.side, c, m + 1);
+          if (y[m] >= ywall(cm)) continue;  // a nearer wall owns this cell
+          const Real l = kappa * y[m] * (1.0 - std::exp(-fp.reynolds * utau * y[m] / aplus));
+          const Real inner = l * l * om[m];
+          const Real kl = ymax > 0.0 ? ckleb * y[m] / ymax : 0.0;
+          const Real outerv = kclauser * ccp * fwake / (1.0 + 5.5 * std::pow(kl, 6));
+          outer = outer || inner >= outerv;
+          nut(cm) = outer ? outerv : inner;
+          ywall(cm) = y[m];
+        }
+      });
+    }
+    for_each_cell(b, [&](int i, int j, int k) {
+      const Real target = nu + std::clamp(nut(i, j, k), 0.0, 1.0e6 * nu);
+      f.nu[ib](i, j, k) += w * (target - f.nu[ib](i, j, k));
+    });
+  }
+}
+
+TurbulenceNorms BaldwinLomax::advance(Grid& g, FlowField& f, const FlowParams& fp, Real) {
+  fill_ghosts(g, f, fp);
+  update_viscosity(g, f, fp);
+  return {};
+}
+
+}  // namespace narwhal
