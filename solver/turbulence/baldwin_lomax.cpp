@@ -7,23 +7,13 @@
 #include "bc/boundary.hpp"
 #include "mesh/ghost_sweep.hpp"
 #include "physics/residual.hpp"
+#include "turbulence/flow_gradients.hpp"
 
 namespace narwhal {
 
 namespace {
 constexpr Real kappa = 0.40, aplus = 26.0, ccp = 1.6, ckleb = 0.3, cwk = 0.25, kclauser = 0.0168;
 
-Real vorticity(const Block& b, const GhostArray<State>& Q, const Index3& c) {
-  Mat3 G = Mat3::Zero();
-  for (int d = 0; d < 3; ++d) {
-    if (d == b.planar_dir) continue;
-    const Index3 e = unit(d), up = add(c, e), dn = add(c, e, -1);
-    G += 0.5 * (Q(c).tail<3>() + Q(up).tail<3>()) * b.S[d](up).transpose() -
-         0.5 * (Q(c).tail<3>() + Q(dn).tail<3>()) * b.S[d](c).transpose();
-  }
-  G /= b.vol(c);
-  return Vec3(G(2, 1) - G(1, 2), G(0, 2) - G(2, 0), G(1, 0) - G(0, 1)).norm();
-}
 }  // namespace
 
 void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) {
@@ -51,7 +41,7 @@ void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParam
         for (int m = 0; m < len; ++m) {
           const Index3 cm = interior_cell(b, p.side, c, m + 1);
           y[m] = n.dot(b.xc(cm) - xw);
-          om[m] = vorticity(b, Q, cm);
+          om[m] = vorticity_magnitude(velocity_gradient(b, Q, cm));
           udif = std::max(udif, (Q(cm).tail<3>() - p.velocity).norm());
           const Real damp = 1.0 - std::exp(-fp.reynolds * utau * y[m] / aplus);
           F[m] = y[m] * om[m] * damp;

@@ -3,16 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "turbulence/flow_gradients.hpp"
+
 namespace narwhal {
 
 namespace {
 constexpr Real cb1 = 0.1355, sigma = 2.0 / 3.0, cb2 = 0.622, kappa = 0.41, cw2 = 0.3, cw3 = 2.0, cv1 = 7.1,
                ct3 = 1.2, ct4 = 0.5, cv2 = 0.7, cv3 = 0.9, cn1 = 16.0;
 constexpr Real cw1 = cb1 / (kappa * kappa) + (1.0 + cb2) / sigma;
-
-Real vorticity_magnitude(const Mat3& G) {
-  return Vec3(G(2, 1) - G(1, 2), G(0, 2) - G(2, 0), G(1, 0) - G(0, 1)).norm();
-}
 }  // namespace
 
 TurbState SpalartAllmaras::freestream(Real nu) const {

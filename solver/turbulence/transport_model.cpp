@@ -6,6 +6,7 @@
 #include "bc/boundary.hpp"
 #include "mesh/ghost_sweep.hpp"
 #include "physics/residual.hpp"
+#include "turbulence/flow_gradients.hpp"
 
 namespace narwhal {
 
@@ -83,18 +84,6 @@ void TransportModel::fill_scalar_ghosts(Grid& g, FlowField& f, const FlowParams&
 }
 
 namespace {
-// Green-Gauss velocity gradient of a cell, face values averaged from the two cells (§8.1).
-Mat3 velocity_gradient(const Block& b, const GhostArray<State>& Q, const Index3& c) {
-  Mat3 G = Mat3::Zero();
-  for (int d = 0; d < 3; ++d) {
-    if (d == b.planar_dir) continue;  // the two plane faces cancel
-    const Index3 e = unit(d);
-    const Index3 up = add(c, e), dn = add(c, e, -1);
-    G += 0.5 * (Q(c).tail<3>() + Q(up).tail<3>()) * b.S[d](up).transpose() -
-         0.5 * (Q(c).tail<3>() + Q(dn).tail<3>()) * b.S[d](c).transpose();
-  }
-  return G / b.vol(c);
-}
 // First ghost layer of a per-cell work array: the donor's value across interfaces
 // (tensors rotated by `rotate`), the adjacent interior cell at physical boundaries.
 template <class Array, class Rotate>
