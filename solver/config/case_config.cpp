@@ -193,6 +193,8 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   t.sgs_iterations = r.integer_or("turbulence.sgs_iterations", t.sgs_iterations,
                                   "symmetric Gauss-Seidel pairs per model iteration");
   t.cfl_max = r.number_or("turbulence.cfl_max", t.cfl_max, "the cap of the model's pseudo-time CFL number");
+  t.degani_schiff = r.boolean_or("turbulence.degani_schiff", t.degani_schiff,
+                                 "whether Baldwin-Lomax takes F_max at the first peak (Degani-Schiff)");
   t.relaxation = r.number_or("turbulence.relaxation", t.relaxation, "the under-relaxation of the model's update");
   if (!(t.relaxation > 0.0 && t.relaxation <= 1.0)) r.error("turbulence.relaxation", "must be in (0, 1]");
   if (t.freestream_nut_ratio <= 0.0) r.error("turbulence.freestream_nut_ratio", "must be > 0");

@@ -50,7 +50,7 @@ void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParam
               fpeak = F[m];
               fmax = F[m];
               ymax = y[m];
-            } else if (F[m] < 0.9 * fpeak) {
+            } else if (settings_.degani_schiff && F[m] < 0.9 * fpeak) {
               past_peak = true;  // Degani-Schiff: the first peak
             }
           }

@@ -11,8 +11,11 @@
 // to the end of the block (multiblock lines are cut at block boundaries: a boundary
 // layer must lie inside the block of its wall); y is the distance from the wall face's
 // plane, u_tau from the wall shear of that face, u_dif = max |u - u_wall| on the line.
-// F_max is the first peak (Degani–Schiff: the search stops once F falls below 0.9 of
-// the largest value so far). Cells on lines of several walls keep the nearest wall's
+// F_max is the line's largest F; with turbulence.degani_schiff the first peak (the
+// search stops once F falls below 0.9 of the largest value so far), as §8.2 advises for
+// bodies at incidence. On the attached TMR plate the first-peak rule stopped inside the
+// log layer (where F = y |omega| is nearly flat) once the layer was thick enough, and
+// Cf fell 12-19 % below SA's for x > 1.2 (measured); the global maximum does not. Cells on lines of several walls keep the nearest wall's
 // value; cells on no line get nu_t = 0. Updated after every mean-flow step, under-
 // relaxed like the transport models (turbulence.relaxation).
 // Limits: attached boundary layers on walls whose normal is a grid direction; no wakes.

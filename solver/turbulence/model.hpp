@@ -34,6 +34,9 @@ struct TurbulenceSettings {
   // mean-flow/model iteration cycle with period 2 (TMR plate, coarse grids at any CFL
   // and finer grids with well-converged SGS); 0.7 removed it in every case measured.
   Real relaxation = 0.7;
+  // Baldwin-Lomax: F_max from the first peak (Degani-Schiff cut-off, for bodies at
+  // incidence with off-body vortices) instead of the line's global maximum.
+  bool degani_schiff = false;
 };
 
 struct TurbulenceNorms {

@@ -40,7 +40,8 @@ def resolve_reference(ctx, spec, root, run_id_for_inputs=None):
     if "header" in spec:
         return ref.header_value(spec["header"]), desc
     if "x" in spec and "y" in spec:
-        return Curve(ref.column(spec["x"]), ref.column(spec["y"]), spec["y"]), desc
+        rows = ref.rows_where(spec["where"]) if "where" in spec else None
+        return Curve(ref.column(spec["x"], rows), ref.column(spec["y"], rows), spec["y"]), desc
     if "column" in spec:
         col = ref.column(spec["column"], ref.rows_where(spec["where"]) if "where" in spec else None)
         if "where" in spec and col.size != 1:
