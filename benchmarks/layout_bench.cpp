@@ -113,28 +113,10 @@ void BM_Layout_SgsPackedPerCell(benchmark::State& st) {
 }
 BENCHMARK(BM_Layout_SgsPackedPerCell)->Unit(benchmark::kMillisecond);
 
-// Field layout under the face loop of the residual: MUSCL + Roe along i.
-void BM_Layout_FluxAoS(benchmark::State& st) {
-  GhostArray<State> Q(NI, NJ, NK, 2, State(0.0, 1.0, 0.1, 0.0));
-  const FaceGeom f{Vec3(1e-2, 0.0, 0.0), 0.0};
-  MusclParams mp;
-  for (auto _ : st)
-    for (int k = 0; k < NK; ++k)
-      for (int j = 0; j < NJ; ++j)
-        for (int i = 1; i < NI; ++i) {
-          const State qL = muscl_left<State>(Q(i - 2, j, k), Q(i - 1, j, k), Q(i, j, k), mp);
-          const State qR = muscl_right<State>(Q(i - 1, j, k), Q(i, j, k), Q(i + 1, j, k), mp);
-          benchmark::DoNotOptimize(roe_flux<Real>(qL, qR, f, 5.0));
-        }
-  st.SetItemsProcessed(st.iterations() * (NI - 1) * NJ * NK);
-}
-BENCHMARK(BM_Layout_FluxAoS)->Unit(benchmark::kMillisecond);
-
-void BM_Layout_FluxSoA(benchmark::State& st) {
-  std::array<GhostArray<Real>, 4> Q;
-  const Real init[4] = {0.0, 1.0, 0.1, 0.0};
-  for (int m = 0; m < 4; ++m) Q[m].resize(NI, NJ, NK, 2, init[m]);
-  auto load = [&](int i, int j, int k) { return State(Q[0](i, j, k), Q[1](i, j, k), Q[2](i, j, k), Q[3](i, j, k)); };
+// Field layout under the face loop of the residual: MUSCL + Roe along i, the cell
+// states fetched by `load` (one array of states, or four arrays of scalars).
+template <class Load>
+void flux_sweep(benchmark::State& st, Load load) {
   const FaceGeom f{Vec3(1e-2, 0.0, 0.0), 0.0};
   MusclParams mp;
   for (auto _ : st)
@@ -146,6 +128,19 @@ void BM_Layout_FluxSoA(benchmark::State& st) {
           benchmark::DoNotOptimize(roe_flux<Real>(qL, qR, f, 5.0));
         }
   st.SetItemsProcessed(st.iterations() * (NI - 1) * NJ * NK);
+}
+
+void BM_Layout_FluxAoS(benchmark::State& st) {
+  GhostArray<State> Q(NI, NJ, NK, 2, State(0.0, 1.0, 0.1, 0.0));
+  flux_sweep(st, [&](int i, int j, int k) -> const State& { return Q(i, j, k); });
+}
+BENCHMARK(BM_Layout_FluxAoS)->Unit(benchmark::kMillisecond);
+
+void BM_Layout_FluxSoA(benchmark::State& st) {
+  std::array<GhostArray<Real>, 4> Q;
+  const Real init[4] = {0.0, 1.0, 0.1, 0.0};
+  for (int m = 0; m < 4; ++m) Q[m].resize(NI, NJ, NK, 2, init[m]);
+  flux_sweep(st, [&](int i, int j, int k) { return State(Q[0](i, j, k), Q[1](i, j, k), Q[2](i, j, k), Q[3](i, j, k)); });
 }
 BENCHMARK(BM_Layout_FluxSoA)->Unit(benchmark::kMillisecond);
 

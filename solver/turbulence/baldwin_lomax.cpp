@@ -19,10 +19,19 @@ constexpr Real kappa = 0.40, aplus = 26.0, ccp = 1.6, ckleb = 0.3, cwk = 0.25, k
 void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) {
   const Real nu = 1.0 / fp.reynolds;
   const Real w = settings_.relaxation;
+  nut_.resize(g.blocks.size());
+  ywall_.resize(g.blocks.size());
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
     const auto& Q = f.Q[ib];
-    GhostArray<Real> nut(b.ni, b.nj, b.nk, 0, 0.0), ywall(b.ni, b.nj, b.nk, 0, std::numeric_limits<Real>::infinity());
+    auto& nut = nut_[ib];
+    auto& ywall = ywall_[ib];
+    if (nut.ni() != b.ni || nut.nj() != b.nj || nut.nk() != b.nk) {
+      nut.resize(b.ni, b.nj, b.nk, 0, 0.0);
+      ywall.resize(b.ni, b.nj, b.nk, 0, 0.0);
+    }
+    nut.fill(0.0);
+    ywall.fill(std::numeric_limits<Real>::infinity());
     for (const Patch& p : b.patches) {
       if (p.type != BcType::Wall) continue;
       const int d = side_dir(p.side);
@@ -35,7 +44,12 @@ void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParam
         const Real utau = std::sqrt(nu * ut1.norm() / d1);
         // The line: cells at depth 1 .. n(d) from this wall.
         const int len = b.n(d);
-        std::vector<Real> y(len), om(len), F(len);
+        y_.resize(static_cast<std::size_t>(len));
+        omega_.resize(static_cast<std::size_t>(len));
+        f_.resize(static_cast<std::size_t>(len));
+        auto& y = y_;
+        auto& om = omega_;
+        auto& F = f_;
         Real fmax = 0.0, ymax = 0.0, fpeak = 0.0, udif = 0.0;
         bool past_peak = false;
         for (int m = 0; m < len; ++m) {

@@ -39,6 +39,10 @@ class BaldwinLomax final : public TurbulenceModel {
 
  private:
   TurbulenceSettings settings_;
+  // Scratch kept across calls (no allocation per iteration): per block the new eddy
+  // viscosity and the distance to the wall that set it; per line y, |omega| and F.
+  std::vector<GhostArray<Real>> nut_, ywall_;
+  std::vector<Real> y_, omega_, f_;
 };
 
 }  // namespace narwhal

@@ -38,6 +38,8 @@ TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) : set
     w.D.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.dphi.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
     w.aux.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
+    w.lam.resize(b.ni, b.nj, b.nk, 0, 0.0);
+    w.flow.resize(b.ni, b.nj, b.nk, 0, CellFlow{});
     work_.push_back(std::move(w));
   }
 }
@@ -189,7 +191,9 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
     // Auxiliary cell values, and their first ghost layer (donor values across interfaces).
     for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
       for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
-        work_[ib].aux(i, j, k) = cell_aux(f.turb[ib](i, j, k), cell_flow(g.blocks[ib], static_cast<int>(ib), f, fp, {i, j, k}, true));
+        CellFlow& cf = work_[ib].flow(i, j, k);
+        cf = cell_flow(g.blocks[ib], static_cast<int>(ib), f, fp, {i, j, k}, true);
+        work_[ib].aux(i, j, k) = cell_aux(f.turb[ib](i, j, k), cf);
       });
     fill_first_ghost_layer(g, [&](std::size_t ib) -> GhostArray<TurbState>& { return work_[ib].aux; },
                            [](const Interface&, const TurbState& a) { return a; });
@@ -201,7 +205,8 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
       const auto& T = f.turb[ib];
       w.R.fill(TurbState::Zero());
       w.D.fill(TurbState::Zero());
-      GhostArray<Real> lam(b.ni, b.nj, b.nk, 0, 0.0);  // spectral radius for the pseudo-time term
+      auto& lam = w.lam;  // spectral radius for the pseudo-time term
+      lam.fill(0.0);
       // Thin-layer diffusion coefficients Gamma |S|^2 / V_f for the left and right cells.
       auto face_coeff = [&](int d, const Index3& cL, const Index3& cR, const Index3& fi) {
         FaceDiffusivity fd = face_diffusivity(T(cL), T(cR), nu, w.aux(cL), w.aux(cR));
@@ -261,7 +266,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
       // Sources and the pseudo-time term.
       for_each_cell(b, [&](int i, int j, int k) {
         const Index3 c{i, j, k};
-        const CellFlow cfw = cell_flow(b, static_cast<int>(ib), f, fp, c, true);
+        const CellFlow& cfw = w.flow(c);
         const PointSource src = source(T(c), cfw);
         // The implicit coefficient is the larger of the model's destruction
         // linearization and -dS/dphi by a one-sided difference of the whole point

@@ -83,6 +83,8 @@ class TransportModel : public TurbulenceModel {
     std::array<GhostArray<Real>, 3> U;
     std::array<GhostArray<TurbState>, 3> aL, aR;
     GhostArray<TurbState> R, D, dphi, aux;
+    GhostArray<Real> lam;         // spectral radius of the cell's faces (pseudo-time term)
+    GhostArray<CellFlow> flow;    // the cells' flow data of the current iteration (aux and sources)
     GhostArray<Mat3> grad_u;  // cell velocity gradients, one ghost layer (when the model needs the Hessian)
   };
   std::vector<Work> work_;
