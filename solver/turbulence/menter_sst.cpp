@@ -43,7 +43,7 @@ TurbState MenterSst::freestream(Real nu) const {
   return TurbState(k, k / (settings_.freestream_nut_ratio * nu));
 }
 
-TurbState MenterSst::wall_value(Real nu, Real d1) const {
+TurbState MenterSst::wall_value(Real nu, Real d1, const TurbState& /*phi1*/) const {
   const Real dy1 = 2.0 * d1;  // the first node off the wall: the wall cell's height
   return TurbState(0.0, 60.0 * nu / (beta1 * dy1 * dy1));
 }

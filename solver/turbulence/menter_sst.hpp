@@ -48,7 +48,7 @@ class MenterSst final : public TransportModel {
 
  protected:
   TurbState freestream(Real nu) const override;
-  TurbState wall_value(Real nu, Real d1) const override;
+  TurbState wall_value(Real nu, Real d1, const TurbState& phi1) const override;
   TurbState diffusivity(const TurbState& phi, Real nu, const TurbState& aux) const override;
   Real nut(const TurbState& phi, const CellFlow& c) const override;
   TurbState limit_update(const TurbState& phi, const TurbState& dphi) const override;

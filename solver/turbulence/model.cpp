@@ -2,7 +2,9 @@
 
 #include "core/error.hpp"
 #include "turbulence/baldwin_lomax.hpp"
+#include "turbulence/launder_sharma.hpp"
 #include "turbulence/menter_sst.hpp"
+#include "turbulence/myong_kasagi.hpp"
 #include "turbulence/spalart_allmaras.hpp"
 
 namespace narwhal {
@@ -12,6 +14,8 @@ const std::vector<TurbulenceModelInfo>& turbulence_models() {
       {"laminar", "no turbulence model"},
       {"baldwin-lomax", "Baldwin-Lomax algebraic model (turbulence/baldwin_lomax.hpp)"},
       {"sa", "Spalart-Allmaras one-equation model, SA-neg as on NASA TMR (turbulence/spalart_allmaras.hpp)"},
+      {"launder-sharma", "Launder-Sharma low-Re k-epsilon (turbulence/launder_sharma.hpp)"},
+      {"myong-kasagi", "Myong-Kasagi low-Re k-epsilon (turbulence/myong_kasagi.hpp)"},
       {"sst", "Menter SST k-omega, the 2003 version as on NASA TMR (turbulence/menter_sst.hpp)"},
   };
   return models;
@@ -22,6 +26,8 @@ std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings&
   if (s.model == "baldwin-lomax") return std::make_unique<BaldwinLomax>(s, g);
   if (s.model == "sa") return std::make_unique<SpalartAllmaras>(s, g);
   if (s.model == "sst") return std::make_unique<MenterSst>(s, g);
+  if (s.model == "myong-kasagi") return std::make_unique<MyongKasagi>(s, g);
+  if (s.model == "launder-sharma") return std::make_unique<LaunderSharma>(s, g);
   std::string valid;
   for (const auto& m : turbulence_models()) valid += (valid.empty() ? "" : ", ") + ("'" + m.name + "'");
   fail("unknown turbulence model '{}': valid models are {}", s.model, valid);

@@ -43,7 +43,7 @@ class SpalartAllmaras final : public TransportModel {
 
  protected:
   TurbState freestream(Real nu) const override;
-  TurbState wall_value(Real, Real) const override { return TurbState::Zero(); }
+  TurbState wall_value(Real, Real, const TurbState&) const override { return TurbState::Zero(); }
   TurbState diffusivity(const TurbState& phi, Real nu, const TurbState& aux) const override;
   FaceDiffusivity face_diffusivity(const TurbState& phiL, const TurbState& phiR, Real nu, const TurbState& auxL,
                                    const TurbState& auxR) const override;

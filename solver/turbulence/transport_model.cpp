@@ -36,9 +36,11 @@ TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) : set
     }
     w.R.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.D.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
+    w.Dx.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.dphi.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
     w.aux.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
     w.lam.resize(b.ni, b.nj, b.nk, 0, 0.0);
+    w.Minv.resize(b.ni, b.nj, b.nk, 0, Eigen::Matrix2d::Identity());
     w.flow.resize(b.ni, b.nj, b.nk, 0, CellFlow{});
     work_.push_back(std::move(w));
   }
@@ -72,7 +74,7 @@ void TransportModel::fill_scalar_ghosts(Grid& g, FlowField& f, const FlowParams&
       const Index3 gc = ghost_cell(b, p.side, c, m);
       const TurbState& tm = T(interior_cell(b, p.side, c, m));
       switch (p.type) {
-        case BcType::Wall: T(gc) = 2.0 * wall_value(nu, wall_distance(b, p.side, c)) - tm; break;
+        case BcType::Wall: T(gc) = 2.0 * wall_value(nu, wall_distance(b, p.side, c), T(interior_cell(b, p.side, c, 1))) - tm; break;
         case BcType::Symmetry: T(gc) = tm; break;
         case BcType::Outflow: T(gc) = tm; break;  // zero gradient
         // Far field, inflow, Dirichlet: the free stream. A ghost that switched with the
@@ -89,7 +91,7 @@ namespace {
 // First ghost layer of a per-cell work array: the donor's value across interfaces
 // (tensors rotated by `rotate`), the adjacent interior cell at physical boundaries.
 template <class Array, class Rotate>
-void fill_first_ghost_layer(const Grid& g, Array array_of, Rotate rotate) {
+void fill_first_ghost_layer(const Grid& g, Array array_of, Rotate rotate, bool extrapolate_at_walls = false) {
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
     auto& A = array_of(ib);
@@ -100,6 +102,8 @@ void fill_first_ghost_layer(const Grid& g, Array array_of, Rotate rotate) {
         if (p.type == BcType::Interface) {
           const Interface& itf = g.interfaces[p.interface];
           A(gc) = rotate(itf, array_of(static_cast<std::size_t>(itf.donor))(itf.map_cell(gc)));
+        } else if (extrapolate_at_walls && p.type == BcType::Wall && b.dims()[side_dir(p.side)] > 1) {
+          A(gc) = 2.0 * A(interior_cell(b, p.side, c, 1)) - A(interior_cell(b, p.side, c, 2));
         } else {
           A(gc) = A(interior_cell(b, p.side, c, 1));
         }
@@ -118,16 +122,24 @@ CellFlow TransportModel::cell_flow(const Block& b, int ib, const FlowField& f, c
   const Real inv_v = 1.0 / b.vol(c);
   if (with_phi_gradient) {
     const auto& T = f.turb[ib];
+    auto root = [&](const Index3& x) { return std::copysign(std::sqrt(std::abs(T(x)[0])), T(x)[0]); };
     for (int d = 0; d < 3; ++d) {
       if (d == b.planar_dir) continue;
       const Index3 e = unit(d);
       const Index3 up = add(c, e), dn = add(c, e, -1);
       cf.grad_phi += b.S[d](up) * (0.5 * (T(c) + T(up))).transpose() - b.S[d](c) * (0.5 * (T(c) + T(dn))).transpose();
+      if (needs_root_gradient())
+        cf.grad_sqrt_phi0 += b.S[d](up) * (0.5 * (root(c) + root(up))) - b.S[d](c) * (0.5 * (root(c) + root(dn)));
     }
     cf.grad_phi *= inv_v;
+    cf.grad_sqrt_phi0 *= inv_v;
   }
   cf.d = wall_.d[ib](c);
   cf.nu = 1.0 / fp.reynolds;
+  if (!u_tau_.empty()) {
+    const int face = wall_.face[ib](c);
+    cf.u_tau = face >= 0 ? u_tau_[static_cast<std::size_t>(face)] : 0.0;
+  }
   const auto& GU = work_[ib].grad_u;
   if (GU.ni() == b.ni && needs_velocity_hessian()) {
     Real h2 = 0.0;
@@ -151,6 +163,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
   const Real nu = 1.0 / fp.reynolds;
   const Real cfl_t = std::min(cfl, settings_.cfl_max);
   fill_ghosts(g, f, fp);  // mean-flow ghosts: volume fluxes and velocity gradients
+  if (needs_friction_velocity()) compute_friction_velocity(g, f, fp);
   // Volume fluxes of every face, once per call: the mean flow is frozen here.
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
@@ -183,8 +196,12 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
       for_each_cell(b, [&](int i, int j, int k) { GU(i, j, k) = velocity_gradient(b, f.Q[ib], {i, j, k}); });
     }
     fill_first_ghost_layer(g, [&](std::size_t ib) -> GhostArray<Mat3>& { return work_[ib].grad_u; },
-                           [](const Interface& itf, const Mat3& G) { return Mat3(itf.R * G * itf.R.transpose()); });
+                           [](const Interface& itf, const Mat3& G) { return Mat3(itf.R * G * itf.R.transpose()); },
+                           // Linear extrapolation into the wall ghost: a copy of the wall
+                           // cell's gradient would halve d2u/dy2 there (E of §8.3 lives at the wall).
+                           true);
   }
+  const bool coupled = nv == 2 && coupled_sources();
   TurbulenceNorms norms;
   for (int it = 0; it < settings_.iterations; ++it) {
     fill_scalar_ghosts(g, f, fp);
@@ -205,6 +222,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
       const auto& T = f.turb[ib];
       w.R.fill(TurbState::Zero());
       w.D.fill(TurbState::Zero());
+      w.Dx.fill(TurbState::Zero());
       auto& lam = w.lam;  // spectral radius for the pseudo-time term
       lam.fill(0.0);
       // Thin-layer diffusion coefficients Gamma |S|^2 / V_f for the left and right cells.
@@ -260,6 +278,21 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
           const TurbState c = face_coeff(d, c1, gc, fi).left;  // cell 1 is "left" here
           w.R(c1) += positive(Uout) * T(c1) + negative(Uout) * T(gc) - c.cwiseProduct(T(gc) - T(c1));
           w.D(c1) += TurbState::Constant(positive(Uout) + negative(Uout) * dg) + c * (1.0 - dg);
+          if (coupled && p.type == BcType::Wall) {
+            // A wall value that depends on the wall cell's other variable (Myong-Kasagi's
+            // eps_w = 2 nu k_1/d_1^2) couples them through the ghost 2 phi_w - phi_1:
+            // d(R_m)/d(phi_n) = -2 c_m d(phi_w,m)/d(phi_n). Left explicit, the k-eps wall
+            // coupling (~nu/d_1^3) made the 137 TMR level diverge (measured).
+            const Real d1 = wall_distance(b, p.side, cc);
+            const TurbState pw = wall_value(nu, d1, T(c1));
+            for (int n = 0; n < 2; ++n) {
+              TurbState shifted = T(c1);
+              const Real h = 1e-6 * std::abs(T(c1)[n]) + 1e-30;
+              shifted[n] += h;
+              const TurbState dpw = (wall_value(nu, d1, shifted) - pw) / h;
+              w.Dx(c1)[1 - n] += -2.0 * c[1 - n] * dpw[1 - n];  // row 1-n, column n
+            }
+          }
           lam(c1) += 0.5 * std::abs(Uout) + c.maxCoeff();
         });
       }
@@ -273,12 +306,13 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
         // source: near walls SA's fw and ft2 vary fast with nu~, and a diagonal that
         // missed it let the iteration cycle with period 2 (coarse TMR plate).
         TurbState implicit = src.implicit;
+        Eigen::Matrix2d J = Eigen::Matrix2d::Zero();  // dS/dphi, numerically
         for (int m = 0; m < nv; ++m) {
           TurbState shifted = T(c);
           const Real h = 1e-6 * std::abs(T(c)[m]) + 1e-9 * std::abs(inf[m]) + 1e-300;
           shifted[m] += h;
-          const Real dS = (source(shifted, cfw).value[m] - src.value[m]) / h;
-          implicit[m] = std::max(implicit[m], -dS);
+          J.col(m) = (source(shifted, cfw).value - src.value) / h;
+          implicit[m] = std::max(implicit[m], -J(m, m));
         }
         const Real V = b.vol(c);
         w.R(c) -= V * src.value;
@@ -291,11 +325,21 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
           w.R(c)[1] = 0.0;
           w.D(c)[1] = 1.0;
         }
+        if (coupled) {
+          // 2x2 point-implicit source (k-epsilon): the diagonal as above, the
+          // off-diagonal couplings dS_k/deps, dS_eps/dk kept. The diagonal-only form
+          // leaves k's growth through nu_t ~ k^2/eps explicit and let k and eps
+          // chase each other (bursts of k ~ 1 near the plate's leading edge, measured);
+          // the point system of k-epsilon is stable (trace < 0, det > 0) only together.
+          Eigen::Matrix2d M = w.D(c).asDiagonal();
+          M(0, 1) = -V * J(0, 1) + w.Dx(c)[0];
+          M(1, 0) = -V * J(1, 0) + w.Dx(c)[1];
+          w.Minv(c) = M.inverse();
+        }
       });
       cells += b.cells();
     }
     for (int m = 0; m < nv; ++m) norms.l2[m] = std::sqrt(norms.l2[m] / static_cast<Real>(cells));
-
     // Symmetric Gauss-Seidel on the scalar blocks.
     for (auto& w : work_) w.dphi.fill(TurbState::Zero());
     for (int sweep = 0; sweep < 2 * settings_.sgs_iterations; ++sweep) {
@@ -312,7 +356,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
             const Index3 up = add(c, e), dn = add(c, e, -1);
             r -= w.aR[d](up).cwiseProduct(w.dphi(up)) + w.aL[d](c).cwiseProduct(w.dphi(dn));
           }
-          w.dphi(c) = r.cwiseQuotient(w.D(c));
+          w.dphi(c) = coupled ? TurbState(w.Minv(c) * r) : TurbState(r.cwiseQuotient(w.D(c)));
         };
         for_each_cell_ordered(b, forward, relax);
       }
@@ -328,8 +372,30 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
   return norms;
 }
 
+void TransportModel::compute_friction_velocity(const Grid& g, const FlowField& f, const FlowParams& fp) {
+  // Same face order as compute_wall_distance. tau_w = nu |u_t1| / d1 from the wall
+  // cell's tangential velocity (the wall at rest in the grid frame's sense of §5.1
+  // is not needed here: y+ only switches damping functions).
+  const Real nu = 1.0 / fp.reynolds;
+  u_tau_.clear();
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    const Block& b = g.blocks[ib];
+    for (const Patch& p : b.patches) {
+      if (p.type != BcType::Wall) continue;
+      for_each_in(face_range(p), [&](Index3 c) {
+        Vec3 n;
+        const Real d1 = wall_distance(b, p.side, c, &n);
+        const Vec3 u1 = f.Q[ib](interior_cell(b, p.side, c, 1)).tail<3>();
+        const Vec3 ut = u1 - u1.dot(n) * n;
+        u_tau_.push_back(std::sqrt(nu * ut.norm() / std::max(d1, 1e-300)));
+      });
+    }
+  }
+}
+
 void TransportModel::update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) {
   const Real nu = 1.0 / fp.reynolds;
+  if (needs_friction_velocity() && u_tau_.size() != wall_.faces.size()) compute_friction_velocity(g, f, fp);
   const Real cap = 1.0e6 * nu;  // §8.6: nut_hat <= 1e6
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];

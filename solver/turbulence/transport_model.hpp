@@ -24,6 +24,10 @@ struct CellFlow {
   Real d = 0.0;      // wall distance (+inf without walls)
   Real nu = 0.0;     // laminar kinematic viscosity 1/Re
   Eigen::Matrix<Real, 3, 2> grad_phi;  // gradients of the model variables
+  // Gradient of sign(phi_0) sqrt(|phi_0|) (k-epsilon's D = 2 nu |grad sqrt k|^2): the
+  // signed root makes the wall ghost -sqrt(k_1) put sqrt(k) = 0 on the wall face.
+  Vec3 grad_sqrt_phi0 = Vec3::Zero();
+  Real u_tau = 0.0;  // friction velocity at the nearest wall face (models that ask for it)
   Real hessian_u2 = 0.0;  // sum over i, j, l of (d2 u_i / dx_j dx_l)^2 (models that ask for it)
 };
 
@@ -45,10 +49,18 @@ class TransportModel : public TurbulenceModel {
 
  protected:
   virtual TurbState freestream(Real nu) const = 0;
-  virtual TurbState wall_value(Real nu, Real d1) const = 0;  // at the wall face; d1: first cell centre
+  // At the wall face; d1: the wall cell centre's distance, phi1: its values.
+  virtual TurbState wall_value(Real nu, Real d1, const TurbState& phi1) const = 0;
   // Second derivatives of the velocity (Launder-Sharma's E term): Green-Gauss applied
   // to face-averaged cell gradients (§8.3).
   virtual bool needs_velocity_hessian() const { return false; }
+  // Two-variable models whose sources couple strongly (k-epsilon): 2x2 point-implicit
+  // source Jacobian in the relaxation instead of scalar diagonals.
+  virtual bool coupled_sources() const { return false; }
+  // u_tau of the nearest wall face in CellFlow (Myong-Kasagi's y+ damping).
+  virtual bool needs_friction_velocity() const { return false; }
+  // Gradient of sqrt(k) (CellFlow::grad_sqrt_phi0), for Launder-Sharma's D term.
+  virtual bool needs_root_gradient() const { return false; }
   // Per-cell auxiliary values computed once per iteration from the cell's flow
   // (SST: the blending F1 and nu_t); passed to the diffusivities. Default: none.
   virtual TurbState cell_aux(const TurbState& /*phi*/, const CellFlow& /*c*/) const { return TurbState::Zero(); }
@@ -73,16 +85,20 @@ class TransportModel : public TurbulenceModel {
 
  private:
   void fill_scalar_ghosts(Grid& g, FlowField& f, const FlowParams& fp) const;
+  void compute_friction_velocity(const Grid& g, const FlowField& f, const FlowParams& fp);
   CellFlow cell_flow(const Block& b, int ib, const FlowField& f, const FlowParams& fp, const Index3& c,
                      bool with_phi_gradient) const;
 
   WallDistance wall_;
+  std::vector<Real> u_tau_;  // per wall face (WallDistance::faces order), when the model needs it
   // Per block: face volume fluxes per direction, residual, implicit diagonal and
   // off-diagonal coefficients per face (dR_R/dphi_L and dR_L/dphi_R), correction.
   struct Work {
     std::array<GhostArray<Real>, 3> U;
     std::array<GhostArray<TurbState>, 3> aL, aR;
     GhostArray<TurbState> R, D, dphi, aux;
+    GhostArray<TurbState> Dx;          // off-diagonal point-block entries (0,1), (1,0) from wall BCs
+    GhostArray<Eigen::Matrix2d> Minv;  // inverse 2x2 point blocks (coupled_sources())
     GhostArray<Real> lam;         // spectral radius of the cell's faces (pseudo-time term)
     GhostArray<CellFlow> flow;    // the cells' flow data of the current iteration (aux and sources)
     GhostArray<Mat3> grad_u;  // cell velocity gradients, one ghost layer (when the model needs the Hessian)

@@ -9,7 +9,9 @@
 #include "app/driver.hpp"
 #include "mesh/ghost_sweep.hpp"
 #include "test_support.hpp"
+#include "turbulence/launder_sharma.hpp"
 #include "turbulence/menter_sst.hpp"
+#include "turbulence/myong_kasagi.hpp"
 #include "turbulence/spalart_allmaras.hpp"
 #include "turbulence/wall_distance.hpp"
 
@@ -144,6 +146,63 @@ TEST(MenterSst, LogLayerEquilibriumOfTheInnerSet) {
   EXPECT_NEAR(s.value[1] / scale_w, 5.0 / 9.0 - 0.075 / bstar, 1e-12);
   EXPECT_GT(s.implicit[0], 0.0);
   EXPECT_GT(s.implicit[1], 0.0);
+}
+
+// k-epsilon log layer: k = u_tau^2/sqrt(C_mu), eps = u_tau^3/(kappa y), nu_t = kappa u_tau y
+// at high R_t and y+ (damping functions 1). The k source P - eps vanishes; the eps
+// point source (C1 - C2) eps^2/k must cancel the diffusion term d/dy(nu_t/sigma_e
+// deps/dy) = u_tau^4/(sigma_e y^2), which holds for kappa^2 = (C2 - C1) sigma_e sqrt(C_mu):
+// a check of the constants and of the sign of every term.
+template <class Model>
+void expect_k_epsilon_log_layer(const Model& model, Real c1, Real c2, Real sigma_e) {
+  const Real cmu = 0.09, utau = 0.05, y = 1e-3;
+  const Real kappa = std::sqrt((c2 - c1) * sigma_e * std::sqrt(cmu));
+  CellFlow cf = log_layer_cell(utau, kappa, y);
+  cf.nu = 1e-30;  // R_t ~ 1e23: f_mu, f2 = 1 to 1e-11
+  cf.u_tau = utau;
+  const TurbState phi(utau * utau / std::sqrt(cmu), utau * utau * utau / (kappa * y));
+  const PointSource s = model.source(phi, cf);
+  EXPECT_NEAR(s.value[0] / phi[1], 0.0, 1e-10);
+  EXPECT_NEAR(s.value[1] * y * y / std::pow(utau, 4), -1.0 / sigma_e, 1e-10);
+  EXPECT_GT(s.implicit[0], 0.0);
+  EXPECT_GT(s.implicit[1], 0.0);
+}
+
+TEST(LaunderSharma, LogLayerEquilibrium) {
+  const Grid g = unit_cell_grid();
+  expect_k_epsilon_log_layer(LaunderSharma(TurbulenceSettings{}, g), 1.44, 1.92, 1.3);
+}
+
+TEST(MyongKasagi, LogLayerEquilibriumAndEddyViscosity) {
+  const Grid g = unit_cell_grid();
+  const MyongKasagi mk(TurbulenceSettings{}, g);
+  expect_k_epsilon_log_layer(mk, 1.4, 1.8, 1.3);
+  const Real utau = 0.05, y = 1e-3, kappa = std::sqrt(0.4 * 1.3 * 0.3);
+  CellFlow cf = log_layer_cell(utau, kappa, y);
+  cf.nu = 1e-30;
+  cf.u_tau = utau;
+  const TurbState phi(utau * utau / 0.3, utau * utau * utau / (kappa * y));
+  EXPECT_NEAR(mk.nut(phi, cf) / (kappa * utau * y), 1.0, 1e-10);
+  // Near the wall (y+ = 1) f_mu = (1 - e^{-1/70})(1 + 3.45/sqrt(R_t)) damps nu_t.
+  cf.nu = 1e-5;
+  cf.d = 1e-5 / utau;
+  const Real rt = phi[0] * phi[0] / (cf.nu * phi[1]);
+  EXPECT_NEAR(mk.nut(phi, cf) / (0.09 * phi[0] * phi[0] / phi[1]), (1.0 - std::exp(-1.0 / 70.0)) * (1.0 + 3.45 / std::sqrt(rt)),
+              1e-12);
+}
+
+struct MyongKasagiProbe : MyongKasagi {
+  using MyongKasagi::MyongKasagi;
+  using MyongKasagi::wall_value;
+};
+
+TEST(MyongKasagi, WallDissipationFromTheWallCell) {
+  // eps_w = 2 nu (d sqrt(k)/dn)^2 with sqrt(k) ~ y: 2 nu k_1/d_1^2 (§5.8).
+  const Grid g = unit_cell_grid();
+  const MyongKasagiProbe mk(TurbulenceSettings{}, g);
+  const TurbState w = mk.wall_value(2e-7, 1e-6, TurbState(3e-9, 0.5));
+  EXPECT_EQ(w[0], 0.0);
+  EXPECT_NEAR(w[1], 2.0 * 2e-7 * 3e-9 / 1e-12, 1e-15);
 }
 
 TEST(TransportModel, UniformFreeStreamStaysUniformOnAPerturbedGrid) {
