@@ -37,7 +37,7 @@ class LaunderSharma final : public TransportModel {
   TurbState cell_aux(const TurbState& phi, const CellFlow& c) const override;
   TurbState diffusivity(const TurbState& phi, Real nu, const TurbState& aux) const override;
   Real nut(const TurbState& phi, const CellFlow& c) const override;
-  TurbState limit_update(const TurbState& phi, const TurbState& dphi) const override;
+  TurbState limit_update(const TurbState& phi, const TurbState& dphi) const override { return keep_positive(phi, dphi); }
   bool needs_velocity_hessian() const override { return true; }
   bool needs_root_gradient() const override { return true; }
   bool coupled_sources() const override { return true; }

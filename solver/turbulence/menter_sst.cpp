@@ -77,11 +77,4 @@ PointSource MenterSst::source(const TurbState& phi, const CellFlow& c) const {
   return s;
 }
 
-TurbState MenterSst::limit_update(const TurbState& phi, const TurbState& dphi) const {
-  TurbState d = dphi;
-  for (int m = 0; m < 2; ++m)
-    if (phi[m] + d[m] <= 0.0) d[m] = -0.5 * phi[m];  // §8.6 positivity
-  return d;
-}
-
 }  // namespace narwhal

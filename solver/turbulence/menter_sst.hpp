@@ -51,7 +51,7 @@ class MenterSst final : public TransportModel {
   TurbState wall_value(Real nu, Real d1, const TurbState& phi1) const override;
   TurbState diffusivity(const TurbState& phi, Real nu, const TurbState& aux) const override;
   Real nut(const TurbState& phi, const CellFlow& c) const override;
-  TurbState limit_update(const TurbState& phi, const TurbState& dphi) const override;
+  TurbState limit_update(const TurbState& phi, const TurbState& dphi) const override { return keep_positive(phi, dphi); }
 };
 
 }  // namespace narwhal

@@ -38,7 +38,7 @@ class MyongKasagi : public TransportModel {
   TurbState wall_value(Real nu, Real d1, const TurbState& phi1) const override;
   TurbState cell_aux(const TurbState& phi, const CellFlow& c) const override;
   TurbState diffusivity(const TurbState& phi, Real nu, const TurbState& aux) const override;
-  TurbState limit_update(const TurbState& phi, const TurbState& dphi) const override;
+  TurbState limit_update(const TurbState& phi, const TurbState& dphi) const override { return keep_positive(phi, dphi); }
   bool needs_friction_velocity() const override { return true; }
   bool coupled_sources() const override { return true; }
 };

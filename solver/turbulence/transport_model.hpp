@@ -80,6 +80,14 @@ class TransportModel : public TurbulenceModel {
   virtual Real nut(const TurbState& phi, const CellFlow& c) const = 0;
   // The update actually applied (positivity, §8.6); default: as computed.
   virtual TurbState limit_update(const TurbState& /*phi*/, const TurbState& dphi) const { return dphi; }
+  // §8.6 positivity for k, epsilon, omega: a step that would make a variable
+  // negative halves it instead.
+  static TurbState keep_positive(const TurbState& phi, const TurbState& dphi) {
+    TurbState d = dphi;
+    for (int m = 0; m < 2; ++m)
+      if (phi[m] + d[m] <= 0.0) d[m] = -0.5 * phi[m];
+    return d;
+  }
 
   TurbulenceSettings settings_;
 
