@@ -12,6 +12,7 @@
 #include "turbulence/launder_sharma.hpp"
 #include "turbulence/menter_sst.hpp"
 #include "turbulence/myong_kasagi.hpp"
+#include "turbulence/nonlinear_stress.hpp"
 #include "turbulence/spalart_allmaras.hpp"
 #include "turbulence/wall_distance.hpp"
 
@@ -189,6 +190,27 @@ TEST(MyongKasagi, LogLayerEquilibriumAndEddyViscosity) {
   const Real rt = phi[0] * phi[0] / (cf.nu * phi[1]);
   EXPECT_NEAR(mk.nut(phi, cf) / (0.09 * phi[0] * phi[0] / phi[1]), (1.0 - std::exp(-1.0 / 70.0)) * (1.0 + 3.45 / std::sqrt(rt)),
               1e-12);
+}
+
+TEST(NonlinearStress, SimpleShearNormalStressesAsNumerics85) {
+  // dU/dy = G at equilibrium G k/eps = C_mu^{-1/2}: <u^2> = (2/3 + C1/12 + C2/2) k = 1.02 k,
+  // <v^2> = (2/3 + C1/12 - C2/2) k = 0.41 k, <w^2> = (2/3 - C1/6) k = 0.57 k, the ordering
+  // u > w > v of experiments (a sign error in Omega swaps u and v).
+  const Real cmu = 0.09, k = 0.3, eps = 0.05, G = eps / (k * std::sqrt(cmu));
+  const Real nut = cmu * k * k / eps;
+  Mat3 grad_u = Mat3::Zero();
+  grad_u(0, 1) = G;
+  const Mat3 S = 0.5 * (grad_u + grad_u.transpose());
+  const Mat3 uu = 2.0 / 3.0 * k * Mat3::Identity() - 2.0 * nut * S - nonlinear_stress(grad_u, nut, k, eps, {});
+  EXPECT_NEAR(uu(0, 0) / k, 2.0 / 3.0 + 0.6048 / 12.0 + 0.6048 / 2.0, 1e-12);
+  EXPECT_NEAR(uu(1, 1) / k, 2.0 / 3.0 + 0.6048 / 12.0 - 0.6048 / 2.0, 1e-12);
+  EXPECT_NEAR(uu(2, 2) / k, 2.0 / 3.0 - 0.6048 / 6.0, 1e-12);
+  EXPECT_NEAR(uu(0, 0) / k, 1.02, 0.005);
+  EXPECT_NEAR(uu(2, 2) / k, 0.57, 0.005);
+  EXPECT_NEAR(uu(1, 1) / k, 0.42, 0.01);
+  EXPECT_NEAR(uu.trace(), 2.0 * k, 1e-12);       // tau_NL is traceless
+  EXPECT_NEAR(uu(0, 1) / k, -std::sqrt(cmu), 1e-12);  // shear stress unchanged: -nu_t G
+  EXPECT_NEAR((uu - uu.transpose()).norm(), 0.0, 1e-15);
 }
 
 struct MyongKasagiProbe : MyongKasagi {
