@@ -36,11 +36,9 @@ TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) : set
     }
     w.R.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.D.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
-    w.Dx.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.dphi.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
     w.aux.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
     w.lam.resize(b.ni, b.nj, b.nk, 0, 0.0);
-    w.Minv.resize(b.ni, b.nj, b.nk, 0, Eigen::Matrix2d::Identity());
     w.flow.resize(b.ni, b.nj, b.nk, 0, CellFlow{});
     work_.push_back(std::move(w));
   }
@@ -114,13 +112,13 @@ void fill_first_ghost_layer(const Grid& g, Array array_of, Rotate rotate, bool e
 }  // namespace
 
 CellFlow TransportModel::cell_flow(const Block& b, int ib, const FlowField& f, const FlowParams& fp, const Index3& c,
-                                   bool with_phi_gradient) const {
+                                   bool for_sources) const {
   // Green-Gauss over the faces with face values averaged from the two cells (§8.1).
   CellFlow cf;
   cf.grad_u = velocity_gradient(b, f.Q[ib], c);
   cf.grad_phi.setZero();
   const Real inv_v = 1.0 / b.vol(c);
-  if (with_phi_gradient) {
+  if (for_sources) {
     const auto& T = f.turb[ib];
     auto root = [&](const Index3& x) { return std::copysign(std::sqrt(std::abs(T(x)[0])), T(x)[0]); };
     for (int d = 0; d < 3; ++d) {
@@ -141,7 +139,7 @@ CellFlow TransportModel::cell_flow(const Block& b, int ib, const FlowField& f, c
     cf.u_tau = face >= 0 ? u_tau_[static_cast<std::size_t>(face)] : 0.0;
   }
   const auto& GU = work_[ib].grad_u;
-  if (GU.ni() == b.ni && needs_velocity_hessian()) {
+  if (for_sources && GU.ni() == b.ni && needs_velocity_hessian()) {
     Real h2 = 0.0;
     for (int l = 0; l < 3; ++l) {
       Mat3 H = Mat3::Zero();  // d/dx_l of grad u
@@ -202,6 +200,14 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
                            true);
   }
   const bool coupled = nv == 2 && coupled_sources();
+  if (coupled)  // the 2x2 point blocks, sized on first use (a constructor cannot ask the model)
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      const Block& b = g.blocks[ib];
+      Work& w = work_[ib];
+      if (w.Minv.ni() == b.ni) continue;
+      w.Dx.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
+      w.Minv.resize(b.ni, b.nj, b.nk, 0, Eigen::Matrix2d::Identity());
+    }
   TurbulenceNorms norms;
   for (int it = 0; it < settings_.iterations; ++it) {
     fill_scalar_ghosts(g, f, fp);
@@ -222,7 +228,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
       const auto& T = f.turb[ib];
       w.R.fill(TurbState::Zero());
       w.D.fill(TurbState::Zero());
-      w.Dx.fill(TurbState::Zero());
+      if (coupled) w.Dx.fill(TurbState::Zero());
       auto& lam = w.lam;  // spectral radius for the pseudo-time term
       lam.fill(0.0);
       // Thin-layer diffusion coefficients Gamma |S|^2 / V_f for the left and right cells.

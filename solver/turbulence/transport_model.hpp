@@ -95,7 +95,7 @@ class TransportModel : public TurbulenceModel {
   void fill_scalar_ghosts(Grid& g, FlowField& f, const FlowParams& fp) const;
   void compute_friction_velocity(const Grid& g, const FlowField& f, const FlowParams& fp);
   CellFlow cell_flow(const Block& b, int ib, const FlowField& f, const FlowParams& fp, const Index3& c,
-                     bool with_phi_gradient) const;
+                     bool for_sources) const;  // false: what nu_t needs only (no gradients of phi, no Hessian)
 
   WallDistance wall_;
   std::vector<Real> u_tau_;  // per wall face (WallDistance::faces order), when the model needs it
