@@ -12,6 +12,7 @@
 #include "io/cgns_writer.hpp"
 #include "io/monitors.hpp"
 #include "io/restart.hpp"
+#include "physics/flow_rate.hpp"
 #include "physics/planar.hpp"
 #include "physics/wall_forces.hpp"
 #include "turbulence/model.hpp"
@@ -60,7 +61,8 @@ std::string json_escape(const std::string& s) {
 }
 
 void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g, const RunSummary& s,
-                    const IterationNorms& last, const std::map<std::string, ForceCoefficients>& forces) {
+                    const IterationNorms& last, const std::map<std::string, ForceCoefficients>& forces,
+                    const Vec3& body_force) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) fail("cannot write '{}'", path);
   fmt::print(f, "{{\n  \"case\": \"{}\",\n  \"title\": \"{}\",\n", json_escape(c.file), json_escape(c.title));
@@ -77,6 +79,7 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
              c.flow.muscl.kappa, c.flow.muscl.phi, c.solver.newton.cfl_start, c.solver.newton.cfl_max,
              c.solver.newton.sgs_iterations, c.solver.max_iterations, c.solver.residual_drop, c.solver.multigrid.levels,
              c.solver.multigrid.gamma == 2 ? "W" : "V");
+  fmt::print(f, "  \"body_force\": [{:.12e}, {:.12e}, {:.12e}],\n", body_force[0], body_force[1], body_force[2]);
   fmt::print(f, "  \"forces\": {{");
   bool first = true;
   for (const auto& [name, fc] : forces) {
@@ -103,7 +106,12 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   namespace fs = std::filesystem;
   using clock = std::chrono::steady_clock;
   Grid g = build_grid(c);
-  const FlowParams fp = flow_params(c);
+  FlowParams fp = flow_params(c);
+  std::unique_ptr<FlowRateControl> flow_rate;
+  if (c.bulk_velocity > 0.0) {
+    flow_rate = std::make_unique<FlowRateControl>(g, c.body_force, c.bulk_velocity);
+    fp.momentum_source = flow_rate->source();
+  }
   FlowField field;
   field.allocate(g, fp, c.initial);
   fs::create_directories(opt.out_dir);
@@ -176,6 +184,7 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
       last = step();  // residual of the state entering this iteration (or cycle), then the update
       wall_faces(g, field, fp, faces);
       all_forces(faces, c.output, forces);
+      if (flow_rate) flow_rate->update(g, field, faces);
       turb_drop = 0.0;
       for (std::size_t m = 0; m < turb_res.size(); ++m) {
         turb_res[m] = turb_norms.l2[m];
@@ -238,7 +247,8 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   } else {
     s.message += fs::exists(restart_path) ? "; the last good restart.h5 is kept" : "; no restart was written before";
   }
-  write_run_json((fs::path(opt.out_dir) / "run.json").string(), c, g, s, last, forces);
+  write_run_json((fs::path(opt.out_dir) / "run.json").string(), c, g, s, last, forces,
+                 flow_rate ? flow_rate->force() : c.body_force);
   fmt::print("narwhal: {} after {} iterations, residual drop {:.2e}, {:.1f} s{}{}\n", to_string(s.status),
              s.iterations, s.residual_drop, s.wall_seconds, s.message.empty() ? "" : ": ", s.message);
   return s;

@@ -122,6 +122,38 @@ void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
       nu(gc) = nu(cm);
     });
   });
+  if (!f.tau_nl.empty()) fill_tensor_ghosts(g, f.tau_nl);
+}
+
+void fill_tensor_ghosts(const Grid& g, std::vector<GhostArray<Mat3>>& T) {
+  // A Cartesian tensor: interfaces rotate it with the velocity's R (R T R^T),
+  // symmetry planes mirror it (M T M, M = I - 2 n n^T), every other boundary copies
+  // the interior (walls do not use it: their flux is §4.5's, and tau_NL = 0 there).
+  ghost_sweep(g, [&](int ib, const Patch& p, int m) {
+    const Block& b = g.blocks[ib];
+    auto& Tb = T[ib];
+    const PatchRange r = extended_cell_range(b, p);
+    if (p.type == BcType::Interface) {
+      const Interface& itf = g.interfaces[p.interface];
+      const auto& TD = T[itf.donor];
+      for_each_in(r, [&](Index3 c) {
+        const Index3 gc = ghost_cell(b, p.side, c, m);
+        Tb(gc) = itf.R * TD(itf.map_cell(gc)) * itf.R.transpose();
+      });
+      return;
+    }
+    const bool mirror = p.type == BcType::Symmetry && side_dir(p.side) != b.planar_dir;
+    for_each_in(r, [&](Index3 c) {
+      const Mat3& Tm = Tb(interior_cell(b, p.side, c, m));
+      if (mirror) {
+        const Vec3 n = outward_face(b, p.side, c).S.normalized();
+        const Mat3 M = Mat3::Identity() - 2.0 * n * n.transpose();
+        Tb(ghost_cell(b, p.side, c, m)) = M * Tm * M;
+      } else {
+        Tb(ghost_cell(b, p.side, c, m)) = Tm;
+      }
+    });
+  });
 }
 
 void exchange_interfaces(const Grid& g, std::vector<GhostArray<State>>& field) {

@@ -39,6 +39,9 @@ State wall_flux(const Patch& p, const State& q1, const FaceGeom& face, bool high
 // physical patches apply their BC. Edge/corner ghosts included (ghost_sweep).
 void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp);
 
+// Ghosts of a per-cell Cartesian tensor field (the non-linear Reynolds stress).
+void fill_tensor_ghosts(const Grid& g, std::vector<GhostArray<Mat3>>& T);
+
 // Copy donor values into interface ghosts of any state-like field (velocity rotated).
 void exchange_interfaces(const Grid& g, std::vector<GhostArray<State>>& field);
 

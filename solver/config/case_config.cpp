@@ -49,7 +49,16 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
       if (n < 1 || spec[2] != n) r.error(key, "the cell count (third entry) must be a positive integer");
       const std::string sk = std::string("grid.first_spacing_") + names[d];
       const Real ds = r.number_or(sk, 0.0, "the first spacing from the start (0: uniform)");
-      g.box_nodes[d] = ds > 0.0 ? geometric_nodes(spec[0], spec[1], n, ds) : uniform_nodes(spec[0], spec[1], n);
+      const std::string ck = std::string("grid.cluster_") + names[d];
+      const std::string cluster = r.string_or(ck, "start", "where the first spacing applies: \"start\" or \"both\" ends");
+      if (cluster != "start" && cluster != "both") r.error(ck, "expected \"start\" or \"both\", got '" + cluster + "'");
+      if (cluster == "both" && n % 2 != 0) r.error(key, "clustering at both ends needs an even cell count");
+      if (ds <= 0.0)
+        g.box_nodes[d] = uniform_nodes(spec[0], spec[1], n);
+      else if (cluster == "both")
+        g.box_nodes[d] = geometric_nodes_both_ends(spec[0], spec[1], n, ds);
+      else
+        g.box_nodes[d] = geometric_nodes(spec[0], spec[1], n, ds);
     }
   } else if (g.type == "perturbed_box") {
     g.perturbed_cells = r.integer("grid.cells", "cells per direction of the unit box");
@@ -122,6 +131,11 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   c.initial[0] = r.number_or("flow.initial_pressure", 0.0, "the initial pressure");
   c.initial.tail<3>() = r.vec3_or("flow.initial_velocity", Vec3(1, 0, 0), "the initial velocity [u, v, w]");
   c.body_force = r.vec3_or("flow.body_force", Vec3::Zero(), "a constant body force per unit volume [fx, fy, fz]");
+  c.bulk_velocity = r.number_or("flow.bulk_velocity", 0.0,
+                                "the bulk velocity the body force is adjusted to (periodic ducts; 0: force fixed)");
+  if (c.bulk_velocity < 0.0) r.error("flow.bulk_velocity", "must be >= 0");
+  if (c.bulk_velocity > 0.0 && c.body_force.norm() == 0.0)
+    r.error("flow.bulk_velocity", "needs flow.body_force for the direction and first estimate of the force");
   c.manufactured = r.boolean_or("flow.manufactured_solution", false, "whether to run the §12.2 manufactured solution");
   if (c.manufactured) c.mms.nu = 1.0 / f.reynolds;
 
@@ -200,6 +214,14 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   if (t.freestream_nut_ratio <= 0.0) r.error("turbulence.freestream_nut_ratio", "must be > 0");
   if (t.iterations < 1) r.error("turbulence.iterations", "must be >= 1");
   if (t.sgs_iterations < 1) r.error("turbulence.sgs_iterations", "must be >= 1");
+  t.max_growth = r.number_or("turbulence.max_growth", t.max_growth,
+                             "the largest factor by which k, epsilon or omega may grow in one step");
+  if (!(t.max_growth > 1.0)) r.error("turbulence.max_growth", "must be > 1");
+  t.nonlinear.c1 = r.number_or("turbulence.nonlinear_c1", t.nonlinear.c1, "C1 of the quadratic stress (§8.5)");
+  t.nonlinear.c2 = r.number_or("turbulence.nonlinear_c2", t.nonlinear.c2, "C2 of the quadratic stress (§8.5)");
+  t.nonlinear.c3 = r.number_or("turbulence.nonlinear_c3", t.nonlinear.c3, "C3 of the quadratic stress (§8.5)");
+  if (t.model == "nonlinear-k-epsilon" && c.flow.viscous != ViscousForm::Full)
+    r.error("flow.viscous", "the non-linear k-epsilon needs the full viscous stress (\"full\", NUMERICS §4.3)");
 
   auto& o = c.output;
   o.restart_interval = r.integer_or("output.restart_interval", o.restart_interval, "iterations between restart files");

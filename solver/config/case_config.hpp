@@ -71,6 +71,7 @@ struct CaseConfig {
   OutputConfig output;
   TurbulenceSettings turbulence;
   Vec3 body_force = Vec3::Zero();  // constant momentum source per unit volume (drives periodic ducts)
+  Real bulk_velocity = 0.0;        // > 0: the body force is adjusted to this bulk velocity (physics/flow_rate.hpp)
   bool manufactured = false;
   ManufacturedSolution mms;
 };

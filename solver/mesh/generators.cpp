@@ -50,6 +50,19 @@ std::vector<Real> geometric_nodes_to_end(Real a, Real b, int n, Real ds_last) {
   return x;
 }
 
+std::vector<Real> geometric_nodes_both_ends(Real a, Real b, int n, Real ds) {
+  if (n % 2 != 0) fail("geometric_nodes_both_ends: the cell count {} must be even", n);
+  const Real mid = 0.5 * (a + b);
+  const auto half = geometric_nodes(a, mid, n / 2, ds);
+  std::vector<Real> x(n + 1);
+  for (int i = 0; i <= n / 2; ++i) {
+    x[i] = half[i];
+    x[n - i] = a + b - half[i];  // the mirror image about the middle
+  }
+  x[n / 2] = mid;
+  return x;
+}
+
 Block make_box(const std::string& name, const std::vector<Real>& xs, const std::vector<Real>& ys,
                const std::vector<Real>& zs) {
   Block b(name, static_cast<int>(xs.size()) - 1, static_cast<int>(ys.size()) - 1, static_cast<int>(zs.size()) - 1);

@@ -15,6 +15,9 @@ std::vector<Real> uniform_nodes(Real a, Real b, int n);
 std::vector<Real> geometric_nodes(Real a, Real b, int n, Real ds_first);
 // Geometric growth towards `a` from `b`: last spacing (at b) is ds_last.
 std::vector<Real> geometric_nodes_to_end(Real a, Real b, int n, Real ds_last);
+// Geometric growth from both ends towards the middle, first spacing ds at each end
+// (n even; the two halves are mirror images: ducts and channels).
+std::vector<Real> geometric_nodes_both_ends(Real a, Real b, int n, Real ds);
 
 // Tensor-product box; patches labelled "imin".."kmax" cover the six faces.
 Block make_box(const std::string& name, const std::vector<Real>& xs, const std::vector<Real>& ys,

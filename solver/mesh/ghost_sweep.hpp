@@ -72,7 +72,7 @@ void for_each_in(const PatchRange& r, F&& f) {
 // block with a single cell in that direction a depth-2 ghost (which mirrors the
 // opposite side's depth-1 ghost) reads a value of this sweep.
 template <class F>
-void ghost_sweep(Grid& g, F&& fill) {
+void ghost_sweep(const Grid& g, F&& fill) {
   // Without interfaces every ghost depends only on its own block's cells and on
   // ghosts filled earlier in the sweep: one round suffices. Interfaces copy donor
   // ghosts that the donor may fill later in a round, hence a second round.

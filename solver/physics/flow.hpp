@@ -31,6 +31,10 @@ struct FlowField {
   std::vector<GhostArray<State>> Q;   // [p, u, v, w] per cell, two ghost layers
   std::vector<GhostArray<Real>> nu;   // effective viscosity nu_e = (1 + nut_hat)/Re (§0.2)
   std::vector<GhostArray<TurbState>> turb;  // turbulence model variables (empty: none)
+  // Non-linear part of the Reynolds stress tau_NL (§1.1, §8.5) per cell, two ghost
+  // layers; empty unless the turbulence model has one. Enters the viscous face flux
+  // explicitly (face average, not in the Jacobian, §4.1).
+  std::vector<GhostArray<Mat3>> tau_nl;
 
   void allocate(const Grid& g, const FlowParams& fp, const State& init);
 };

@@ -6,6 +6,39 @@
 namespace narwhal {
 
 namespace {
+
+// §4.1: the non-linear Reynolds stress's share of the viscous flux, tau_NL_f S_f with
+// the face average of the cell values, explicit. Wall faces carry none (k = 0 there).
+void add_nonlinear_stress_flux(const Block& b, const GhostArray<Mat3>& T, GhostArray<State>& Rb) {
+  auto flux = [&](int d, const Index3& f) { return Vec3(0.5 * (T(add(f, unit(d), -1)) + T(f)) * b.S[d](f)); };
+  for (int d = 0; d < 3; ++d) {
+    if (d == b.planar_dir) continue;  // in-plane S and mirror ghosts: no net flux
+    const Index3 e = unit(d);
+    Index3 lo{0, 0, 0}, hi = b.dims();
+    lo[d] = 1;
+    for (int k = lo[2]; k < hi[2]; ++k)
+      for (int j = lo[1]; j < hi[1]; ++j)
+        for (int i = lo[0]; i < hi[0]; ++i) {
+          const Index3 f{i, j, k};
+          const Vec3 F = flux(d, f);
+          Rb(add(f, e, -1)).tail<3>() -= F;
+          Rb(f).tail<3>() += F;
+        }
+  }
+  for (const Patch& p : b.patches) {
+    if (p.type == BcType::Wall || side_dir(p.side) == b.planar_dir) continue;
+    const int d = side_dir(p.side);
+    for_each_in(face_range(p), [&](Index3 c) {
+      const Vec3 F = flux(d, boundary_face_index(b, p.side, c));
+      const Index3 c1 = interior_cell(b, p.side, c, 1);
+      if (side_high(p.side))
+        Rb(c1).tail<3>() -= F;
+      else
+        Rb(c1).tail<3>() += F;
+    });
+  }
+}
+
 }  // namespace
 
 Real thin_layer_coefficient(const Block& b, const GhostArray<Real>& nu, int d, const Index3& f) {
@@ -121,6 +154,7 @@ void compute_residual(const Grid& g, const FlowField& fl, const FlowParams& fp, 
           Rb(c1) -= F;
       });
     }
+    if (ib < fl.tau_nl.size()) add_nonlinear_stress_flux(b, fl.tau_nl[ib], Rb);
     if (fp.momentum_source) {
       for (int k = 0; k < b.nk; ++k)
         for (int j = 0; j < b.nj; ++j)

@@ -5,6 +5,7 @@
 #include "turbulence/launder_sharma.hpp"
 #include "turbulence/menter_sst.hpp"
 #include "turbulence/myong_kasagi.hpp"
+#include "turbulence/nonlinear_k_epsilon.hpp"
 #include "turbulence/spalart_allmaras.hpp"
 
 namespace narwhal {
@@ -16,6 +17,7 @@ const std::vector<TurbulenceModelInfo>& turbulence_models() {
       {"sa", "Spalart-Allmaras one-equation model, SA-neg as on NASA TMR (turbulence/spalart_allmaras.hpp)"},
       {"launder-sharma", "Launder-Sharma low-Re k-epsilon (turbulence/launder_sharma.hpp)"},
       {"myong-kasagi", "Myong-Kasagi low-Re k-epsilon (turbulence/myong_kasagi.hpp)"},
+      {"nonlinear-k-epsilon", "the paper's low-Re non-linear (quadratic stress) k-epsilon on Myong-Kasagi (turbulence/nonlinear_k_epsilon.hpp)"},
       {"sst", "Menter SST k-omega, the 2003 version as on NASA TMR (turbulence/menter_sst.hpp)"},
   };
   return models;
@@ -27,6 +29,7 @@ std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings&
   if (s.model == "sa") return std::make_unique<SpalartAllmaras>(s, g);
   if (s.model == "sst") return std::make_unique<MenterSst>(s, g);
   if (s.model == "myong-kasagi") return std::make_unique<MyongKasagi>(s, g);
+  if (s.model == "nonlinear-k-epsilon") return std::make_unique<NonlinearKEpsilon>(s, g);
   if (s.model == "launder-sharma") return std::make_unique<LaunderSharma>(s, g);
   std::string valid;
   for (const auto& m : turbulence_models()) valid += (valid.empty() ? "" : ", ") + ("'" + m.name + "'");

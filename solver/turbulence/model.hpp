@@ -19,6 +19,7 @@
 
 #include "mesh/block.hpp"
 #include "physics/flow.hpp"
+#include "turbulence/nonlinear_stress.hpp"
 #include "turbulence/wall_distance.hpp"
 
 namespace narwhal {
@@ -34,9 +35,19 @@ struct TurbulenceSettings {
   // mean-flow/model iteration cycle with period 2 (TMR plate, coarse grids at any CFL
   // and finer grids with well-converged SGS); 0.7 removed it in every case measured.
   Real relaxation = 0.7;
+  // Largest factor by which k, epsilon or omega may grow in one step (positivity
+  // halves a step that would make them negative). Where production dwarfs destruction
+  // (a start from uniform flow puts S ~ U/d_1 in the wall cells: P/eps ~ 1e6 in the
+  // 96 x 96 duct) the point-implicit step is about k P/eps and overflowed within two
+  // iterations (measured). The cap is inactive at convergence but changes the path:
+  // with 10 the TMR plates (SST, LS, MK) converge to the uncapped solutions (Cf equal
+  // to 6e-6); with 2 MK's converged to another solution, with local Cf spikes of
+  // +9 % (its y+ damping makes the discrete solution non-unique).
+  Real max_growth = 10.0;
   // Baldwin-Lomax: F_max from the first peak (Degani-Schiff cut-off, for bodies at
   // incidence with off-body vortices) instead of the line's global maximum.
   bool degani_schiff = false;
+  NonlinearCoefficients nonlinear;  // quadratic-stress coefficients of the non-linear k-epsilon (§8.5)
 };
 
 struct TurbulenceNorms {

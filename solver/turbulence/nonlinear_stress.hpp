@@ -20,4 +20,9 @@ struct NonlinearCoefficients {
 
 Mat3 nonlinear_stress(const Mat3& grad_u, Real nu_t, Real k, Real eps, const NonlinearCoefficients& c);
 
+// §8.5's realisability guard: tau_NL scaled by the largest s in [0, 1] that keeps
+// every normal stress <u_a^2> = 2/3 k - 2 nu_t S_aa - s tau_NL_aa >= 0 (s = 0 where
+// the linear part alone is already unrealisable).
+Mat3 realizable_nonlinear_stress(const Mat3& grad_u, Real nu_t, Real k, Real eps, const NonlinearCoefficients& c);
+
 }  // namespace narwhal

@@ -403,13 +403,25 @@ void TransportModel::update_viscosity(const Grid& g, FlowField& f, const FlowPar
   const Real nu = 1.0 / fp.reynolds;
   if (needs_friction_velocity() && u_tau_.size() != wall_.faces.size()) compute_friction_velocity(g, f, fp);
   const Real cap = 1.0e6 * nu;  // §8.6: nut_hat <= 1e6
+  const bool nonlinear = has_nonlinear_stress();
+  if (nonlinear && f.tau_nl.size() != g.blocks.size()) {
+    f.tau_nl.resize(g.blocks.size());
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      const Block& b = g.blocks[ib];
+      f.tau_nl[ib].resize(b.ni, b.nj, b.nk, kGhost);
+      f.tau_nl[ib].fill(Mat3::Zero());
+    }
+  }
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
     for_each_cell(b, [&](int i, int j, int k) {
       const CellFlow cf = cell_flow(b, static_cast<int>(ib), f, fp, {i, j, k}, false);
-      f.nu[ib](i, j, k) = nu + std::clamp(nut(f.turb[ib](i, j, k), cf), 0.0, cap);
+      const Real nu_t = std::clamp(nut(f.turb[ib](i, j, k), cf), 0.0, cap);
+      f.nu[ib](i, j, k) = nu + nu_t;
+      if (nonlinear) f.tau_nl[ib](i, j, k) = cell_nonlinear_stress(f.turb[ib](i, j, k), cf, nu_t);
     });
   }
+  if (nonlinear) fill_tensor_ghosts(g, f.tau_nl);
 }
 
 Real TransportModel::eddy_viscosity(const FlowField& f, const FlowParams& fp, int ib, const Index3& c) const {

@@ -12,6 +12,7 @@
 //   blocks per variable); block interfaces lag by one iteration, as in the mean flow.
 // Boundary ghosts: wall 2 phi_w - phi_1 (phi_w from the model), symmetry and
 // outflow zero gradient, far field / inflow the free stream where the flow enters.
+#include <algorithm>
 #include <array>
 
 #include "turbulence/model.hpp"
@@ -78,14 +79,23 @@ class TransportModel : public TurbulenceModel {
   }
   virtual PointSource source(const TurbState& phi, const CellFlow& c) const = 0;
   virtual Real nut(const TurbState& phi, const CellFlow& c) const = 0;
+  // Models with a non-linear Reynolds stress (§8.5): its cell value from the cell's
+  // variables and nu_t, stored in FlowField::tau_nl whenever nu_t is updated.
+  virtual bool has_nonlinear_stress() const { return false; }
+  virtual Mat3 cell_nonlinear_stress(const TurbState& /*phi*/, const CellFlow& /*c*/, Real /*nu_t*/) const {
+    return Mat3::Zero();
+  }
   // The update actually applied (positivity, §8.6); default: as computed.
   virtual TurbState limit_update(const TurbState& /*phi*/, const TurbState& dphi) const { return dphi; }
   // §8.6 positivity for k, epsilon, omega: a step that would make a variable
-  // negative halves it instead.
-  static TurbState keep_positive(const TurbState& phi, const TurbState& dphi) {
+  // negative halves it instead. Growth is capped at the factor
+  // settings_.max_growth per step (see TurbulenceSettings).
+  TurbState keep_positive(const TurbState& phi, const TurbState& dphi) const {
     TurbState d = dphi;
-    for (int m = 0; m < 2; ++m)
+    for (int m = 0; m < 2; ++m) {
       if (phi[m] + d[m] <= 0.0) d[m] = -0.5 * phi[m];
+      d[m] = std::min(d[m], (settings_.max_growth - 1.0) * std::max(phi[m], 0.0));
+    }
     return d;
   }
 

@@ -40,7 +40,8 @@ def _reference_on(curve, ref):
         inside = (curve.x >= lo) & (curve.x <= hi)
         if not inside.all():
             raise HarnessError(f"computed points outside the reference range [{lo}, {hi}]")
-        return np.interp(curve.x, ref.x, ref.y)
+        order = np.argsort(ref.x)  # reference tables may run either way
+        return np.interp(curve.x, ref.x[order], ref.y[order])
     raise HarnessError("a profile comparison needs a reference curve or function")
 
 
@@ -125,7 +126,7 @@ def compare(comparator, computed, reference, tolerance, options):
         c = _scalar(computed, "computed value")
         ok = c <= tolerance if comparator == "max" else c >= tolerance
         out.update(computed=c, reference=None if reference is None else _scalar(reference, "reference"),
-                   delta=c - tolerance, passed=bool(ok))
+                   delta=c - tolerance, passed=bool(ok), plot=getattr(computed, "plot", None))
     elif comparator == "restart_equal":
         c = _scalar(computed, "history difference")
         out.update(computed=c, reference=0.0, delta=c, passed=bool(c <= tolerance))

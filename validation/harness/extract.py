@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from . import exact
+from .duct import duct_flow
 from .compare import Curve, Family
 from .errors import HarnessError
 from .solution import read_solution
@@ -26,8 +27,9 @@ def read_csv(path):
 class Context:
     """What a rung's runs produced: output directory and effective input per run id."""
 
-    def __init__(self, rung, run_dirs, inputs):
+    def __init__(self, rung, run_dirs, inputs, reference_root=None):
         self.rung, self.run_dirs, self.inputs = rung, run_dirs, inputs
+        self.reference_root = reference_root  # for extractors that draw reference fields beside theirs
         self._solutions = {}
 
     def run_dir(self, run_id):
@@ -293,7 +295,7 @@ def curve_difference(ctx, spec, run_id):
 
 
 KINDS = {"cf_vs_retheta": cf_vs_retheta, "surface": surface, "surface_at": surface_at, "wall_units": wall_units, "ratio": ratio, "curve_difference": curve_difference, "run_json": run_json, "history_last": history_last, "field_error": field_error, "boundary_layer": boundary_layer,
-         "duct": duct, "history_difference": history_difference}
+         "duct": duct, "duct_flow": duct_flow, "history_difference": history_difference}
 
 
 def extract(ctx, spec):

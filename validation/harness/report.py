@@ -55,10 +55,52 @@ def _fmt(v):
     return html.escape(str(v))
 
 
+def _to_uniform(y, z, f, n=41):
+    """A tensor-grid field f[z, y] interpolated (bilinearly) onto n x n uniform points."""
+    yu, zu = np.linspace(y.min(), y.max(), n), np.linspace(z.min(), z.max(), n)
+    along_y = np.array([np.interp(yu, y, row) for row in f])
+    return yu, zu, np.array([np.interp(zu, z, col) for col in along_y.T]).T
+
+
+def _plot_duct_field(check, p):
+    """Isovels U/U_b and secondary-flow streamlines (line width ~ speed) of the run
+    beside the DNS field."""
+    panels = [("Narwhal", p["y"], p["z"], p["u"], p["v"], p["w"])]
+    if p.get("dns"):
+        d = p["dns"]
+        panels.append(("DNS (reference)", d["y"], d["z"], d["u"], d["v"], d["w"]))
+    fig = plt.figure(figsize=(5.6 * len(panels) + 0.8, 5.6))
+    grid = fig.add_gridspec(1, len(panels) + 1, width_ratios=[1.0] * len(panels) + [0.05])
+    levels = np.linspace(0.1, 1.4, 14)
+    for n, (name, y, z, u, v, w) in enumerate(panels):
+        ax = fig.add_subplot(grid[0, n])
+        y, z = np.asarray(y, float), np.asarray(z, float)
+        u, v, w = (np.asarray(a, float) for a in (u, v, w))
+        cs = ax.contourf(y, z, u, levels=levels, cmap="viridis", extend="both")
+        ax.contour(y, z, u, levels=levels, colors="k", linewidths=0.3)
+        yu, zu, vu = _to_uniform(y, z, v)
+        _, _, wu = _to_uniform(y, z, w)
+        speed = np.hypot(vu, wu)
+        ax.streamplot(yu, zu, vu, wu, color="white", density=1.4, arrowsize=0.7,
+                      linewidth=0.3 + 1.5 * speed / max(speed.max(), 1e-30))
+        ax.set_title(f"{name}: max |(V, W)| = {100 * np.nanmax(np.hypot(v, w)):.2f} % U_b", fontsize=10)
+        ax.set_aspect("equal")
+        ax.set_xlim(-1, 1)
+        ax.set_ylim(-1, 1)
+        ax.set_xlabel("y/h")
+        ax.set_ylabel("z/h")
+    fig.colorbar(cs, cax=fig.add_subplot(grid[0, -1]), label="U/U_b")
+    fig.suptitle(f"{check['name']}\n{p['cells']} vortex cells in the secondary stream function", fontsize=10)
+
+
 def _plot_check(check, path):
     p = check.get("plot")
     if not p:
         return False
+    if p["kind"] == "duct_field":
+        _plot_duct_field(check, p)
+        _save(plt.gcf(), path)
+        return True
     if p["kind"] == "curve":
         fig, (a1, a2) = plt.subplots(2, 1, figsize=(6.4, 5.6), sharex=True, gridspec_kw={"height_ratios": [2, 1]})
         x = np.array(p["x"])

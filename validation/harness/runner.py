@@ -96,7 +96,7 @@ def run_rung(rung, tier, narwhal, out_dir, root):
         inputs[r.id] = effective_input(r)
 
     if result["status"] == "passed":
-        ctx = Context(rung, run_dirs, inputs)
+        ctx = Context(rung, run_dirs, inputs, root / "reference_data")
         for c in rung.checks:
             if tier not in c.tiers:
                 continue

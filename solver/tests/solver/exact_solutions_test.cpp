@@ -3,11 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 
+#include "bc/boundary.hpp"
 #include "implicit/newton.hpp"
 #include "mesh/connectivity.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/setup.hpp"
+#include "physics/flow_rate.hpp"
+#include "physics/wall_forces.hpp"
 
 namespace narwhal {
 namespace {
@@ -21,9 +25,10 @@ struct ChannelRun {
 };
 
 // Channel 0<y<1, periodic in x, symmetric in z; bottom wall fixed, top wall at
-// `top_speed`; optional streamwise body force G (pressure gradient -dp/dx = G).
+// `top_speed`; optional streamwise body force G (pressure gradient -dp/dx = G), fixed
+// or, with target_ub > 0, adjusted to that bulk velocity from G as first estimate.
 ChannelRun run_channel(int ny, Real stretch_dy, Real top_speed, Real G, Real Re,
-                       ViscousForm form = ViscousForm::Full) {
+                       ViscousForm form = ViscousForm::Full, Real target_ub = 0.0, Real* final_G = nullptr) {
   ChannelRun r;
   auto ys = stretch_dy > 0 ? geometric_nodes(0.0, 1.0, ny, stretch_dy) : uniform_nodes(0.0, 1.0, ny);
   r.g.blocks.push_back(make_box("channel", uniform_nodes(0.0, 0.5, 4), ys, uniform_nodes(0.0, 0.1, 1)));
@@ -37,6 +42,11 @@ ChannelRun run_channel(int ny, Real stretch_dy, Real top_speed, Real G, Real Re,
   r.fp.beta = 5.0;
   r.fp.viscous = form;
   if (G != 0.0) r.fp.momentum_source = [G](const Vec3&) { return Vec3(G, 0.0, 0.0); };
+  std::unique_ptr<FlowRateControl> control;
+  if (target_ub > 0.0) {
+    control = std::make_unique<FlowRateControl>(r.g, Vec3(G, 0.0, 0.0), target_ub);
+    r.fp.momentum_source = control->source();
+  }
   State init;
   init << 0.0, 0.0, 0.0, 0.0;
   r.f.allocate(r.g, r.fp, init);
@@ -45,8 +55,15 @@ ChannelRun run_channel(int ny, Real stretch_dy, Real top_speed, Real G, Real Re,
   s.sgs_iterations = 20;
   NewtonSolver solver(r.g, r.f, r.fp, s);
   Real first = -1.0, last = 0.0;
+  std::map<std::string, std::vector<WallFace>> faces;
   for (int it = 0; it < 500; ++it) {
     auto n = solver.iterate();
+    if (control) {
+      fill_ghosts(r.g, r.f, r.fp);
+      wall_faces(r.g, r.f, r.fp, faces);
+      control->update(r.g, r.f, faces);
+      if (final_G) *final_G = control->force()[0];
+    }
     if (first < 0) first = n.total;
     last = n.total;
     r.iterations = it + 1;
@@ -92,6 +109,20 @@ TEST(ExactSolutions, PoiseuilleConvergesAtSecondOrder) {
                 err[m - 1], err[m], order);
     EXPECT_GE(order, 1.999) << "grids " << m - 1 << "->" << m << " errors " << err[m - 1] << " " << err[m];
   }
+}
+
+TEST(FlowRateControl, FindsTheForceOfTheFixedForceRunWithItsBulkVelocity) {
+  // Fixed G = 0.8 gives some discrete bulk velocity U_b; asking for that U_b from a
+  // wrong first estimate (G = 0.3) must converge to the same discrete solution, G = 0.8.
+  const Real Re = 10.0;
+  auto fixed = run_channel(16, 0.0, 0.0, 0.8, Re);
+  const FlowRateControl probe(fixed.g, Vec3(1.0, 0.0, 0.0), 1.0);
+  const Real ub = probe.bulk_velocity(fixed.g, fixed.f);
+  EXPECT_NEAR(ub / (Re * 0.8 / 12.0), 1.0, 1e-2);  // plane Poiseuille U_b = Re G / 12, to O(h^2)
+  Real G = 0.0;
+  auto controlled = run_channel(16, 0.0, 0.0, 0.3, Re, ViscousForm::Full, ub, &G);
+  EXPECT_NEAR(G / 0.8, 1.0, 1e-9) << controlled.iterations << " iterations, drop " << controlled.drop;
+  EXPECT_NEAR(probe.bulk_velocity(controlled.g, controlled.f) / ub, 1.0, 1e-10);
 }
 
 }  // namespace

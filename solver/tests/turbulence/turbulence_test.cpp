@@ -12,6 +12,8 @@
 #include "turbulence/launder_sharma.hpp"
 #include "turbulence/menter_sst.hpp"
 #include "turbulence/myong_kasagi.hpp"
+#include "physics/residual.hpp"
+#include "turbulence/nonlinear_k_epsilon.hpp"
 #include "turbulence/nonlinear_stress.hpp"
 #include "turbulence/spalart_allmaras.hpp"
 #include "turbulence/wall_distance.hpp"
@@ -211,6 +213,103 @@ TEST(NonlinearStress, SimpleShearNormalStressesAsNumerics85) {
   EXPECT_NEAR(uu.trace(), 2.0 * k, 1e-12);       // tau_NL is traceless
   EXPECT_NEAR(uu(0, 1) / k, -std::sqrt(cmu), 1e-12);  // shear stress unchanged: -nu_t G
   EXPECT_NEAR((uu - uu.transpose()).norm(), 0.0, 1e-15);
+}
+
+// A traceless velocity gradient with strain and rotation in every component.
+Mat3 general_velocity_gradient() {
+  Mat3 g;
+  g << 0.3, 1.7, -0.4, 0.2, -0.5, 0.9, -1.1, 0.6, 0.2;
+  return g;
+}
+
+struct NonlinearKEpsilonProbe : NonlinearKEpsilon {
+  using NonlinearKEpsilon::NonlinearKEpsilon;
+  using NonlinearKEpsilon::cell_nonlinear_stress;
+  using NonlinearKEpsilon::production;
+};
+
+TEST(NonlinearKEpsilon, ProductionIsNumerics85AndZeroCoefficientsGiveMyongKasagi) {
+  // P_k = 2 nu_t S:S - C1 nu_t k/eps tr(S S S) - C3 nu_t k/eps (Omega Omega^T - 1/3 tr I):S;
+  // C2's commutator does no work. Mild strain: the realisability guard is inactive.
+  const Grid g = unit_cell_grid();
+  TurbulenceSettings ts;
+  ts.nonlinear = {0.6048, 0.6048, 0.3};
+  const NonlinearKEpsilonProbe nl(ts, g);
+  CellFlow cf = log_layer_cell(0.05, 0.41, 1e-3);
+  cf.grad_u = 0.2 * general_velocity_gradient();
+  const Real k = 0.3, eps = 0.05, nut = 0.09 * k * k / eps;
+  const Mat3 S = 0.5 * (cf.grad_u + cf.grad_u.transpose()), W = 0.5 * (cf.grad_u - cf.grad_u.transpose());
+  const Mat3 WW = W * W.transpose();
+  const Real expected = 2.0 * nut * (S.array() * S.array()).sum() - 0.6048 * nut * k / eps * (S * S * S).trace() -
+                        0.3 * nut * k / eps * ((WW - WW.trace() / 3.0 * Mat3::Identity()).array() * S.array()).sum();
+  const TurbState phi(k, eps);
+  EXPECT_NEAR(nl.production(phi, cf, nut) / expected, 1.0, 1e-12);
+  EXPECT_NEAR((nl.cell_nonlinear_stress(phi, cf, nut) - nonlinear_stress(cf.grad_u, nut, k, eps, ts.nonlinear)).norm(), 0.0,
+              1e-15);
+  // C1 = C2 = C3 = 0: no stress, and the sources are Myong-Kasagi's to the last bit.
+  ts.nonlinear = {0.0, 0.0, 0.0};
+  const NonlinearKEpsilonProbe linear(ts, g);
+  const MyongKasagi mk(ts, g);
+  EXPECT_EQ(linear.cell_nonlinear_stress(phi, cf, nut).norm(), 0.0);
+  const PointSource a = linear.source(phi, cf), b = mk.source(phi, cf);
+  EXPECT_EQ(a.value[0], b.value[0]);
+  EXPECT_EQ(a.value[1], b.value[1]);
+  EXPECT_EQ(linear.nut(phi, cf), mk.nut(phi, cf));
+}
+
+TEST(NonlinearStress, RealisabilityGuardStopsAtZeroNormalStress) {
+  // Strong simple shear (G k/eps = 10 C_mu^{-1/2}): unclipped, <v^2> = 2/3 k - C2/2 (G k/eps)^2 C_mu k
+  // < 0; the guard scales tau_NL so that the smallest normal stress is exactly zero.
+  const Real cmu = 0.09, k = 0.3, eps = 0.05, G = 10.0 * eps / (k * std::sqrt(cmu)), nut = cmu * k * k / eps;
+  Mat3 grad_u = Mat3::Zero();
+  grad_u(0, 1) = G;
+  auto normal_stresses = [&](const Mat3& t) { return Vec3((2.0 / 3.0 * k * Mat3::Identity() - t).diagonal()); };
+  const Mat3 raw = nonlinear_stress(grad_u, nut, k, eps, {});
+  EXPECT_LT(normal_stresses(raw).minCoeff(), -k);  // the case does need the guard
+  const Mat3 clipped = realizable_nonlinear_stress(grad_u, nut, k, eps, {});
+  EXPECT_NEAR(normal_stresses(clipped).minCoeff() / k, 0.0, 1e-12);
+  EXPECT_NEAR((clipped - clipped(1, 1) / raw(1, 1) * raw).norm(), 0.0, 1e-12 * raw.norm());  // a scaling only
+  // Mild shear: untouched.
+  grad_u(0, 1) = 0.5 * eps / (k * std::sqrt(cmu));
+  EXPECT_EQ((realizable_nonlinear_stress(grad_u, nut, k, eps, {}) - nonlinear_stress(grad_u, nut, k, eps, {})).norm(), 0.0);
+}
+
+TEST(NonlinearStress, MeanFlowResidualIsMinusVolumeTimesItsDivergence) {
+  // A linear tau_NL field on a uniform box: the face-averaged flux is exact, and every
+  // cell away from the boundary gets R_momentum = -V div(tau_NL) (§4.1 sign: the stress
+  // joins the viscous flux, which the residual subtracts).
+  Grid g;
+  g.blocks.push_back(make_box("b", uniform_nodes(0.0, 1.0, 6), uniform_nodes(0.0, 2.0, 5), uniform_nodes(-1.0, 0.5, 4)));
+  for (auto& p : g.blocks[0].patches) p.type = BcType::Farfield;
+  finalize_grid(g);
+  FlowParams fp;
+  FlowField f;
+  f.allocate(g, fp, State::Zero());
+  const Block& b = g.blocks[0];
+  Mat3 A[3];  // tau(x) = T0 + sum_l x_l A_l, symmetric
+  for (int l = 0; l < 3; ++l) {
+    const Mat3 r = general_velocity_gradient() * (l + 1.0) + Mat3::Identity() * l;
+    A[l] = r + r.transpose();
+  }
+  f.tau_nl.resize(1);
+  f.tau_nl[0].resize(b.ni, b.nj, b.nk, kGhost);
+  for_each_cell(b, [&](int i, int j, int k) {
+    const Vec3 x = b.xc(i, j, k);
+    f.tau_nl[0](i, j, k) = Mat3::Identity() + x[0] * A[0] + x[1] * A[1] + x[2] * A[2];
+  });
+  fill_ghosts(g, f, fp);
+  std::vector<GhostArray<State>> R;
+  compute_residual(g, f, fp, R);
+  Vec3 div;  // div_j tau_ij = sum_l A_l(i, l)
+  for (int i = 0; i < 3; ++i) div[i] = A[0](i, 0) + A[1](i, 1) + A[2](i, 2);
+  int checked = 0;
+  for_each_cell(b, [&](int i, int j, int k) {
+    if (i == 0 || j == 0 || k == 0 || i == b.ni - 1 || j == b.nj - 1 || k == b.nk - 1) return;
+    EXPECT_NEAR((R[0](i, j, k).tail<3>() + b.vol(i, j, k) * div).norm(), 0.0, 1e-12);
+    EXPECT_EQ(R[0](i, j, k)[0], 0.0);
+    ++checked;
+  });
+  EXPECT_EQ(checked, 4 * 3 * 2);
 }
 
 struct MyongKasagiProbe : MyongKasagi {

@@ -1,0 +1,42 @@
+#include "physics/flow_rate.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace narwhal {
+
+FlowRateControl::FlowRateControl(const Grid& g, const Vec3& initial_force, Real target)
+    : G_(std::make_shared<Real>(initial_force.norm())), target_(target) {
+  if (!(initial_force.norm() > 0.0)) fail("a target bulk velocity needs flow.body_force for its direction");
+  e_ = initial_force.normalized();
+  for (const Block& b : g.blocks) for_each_cell(b, [&](int i, int j, int k) { volume_ += b.vol(i, j, k); });
+}
+
+std::function<Vec3(const Vec3&)> FlowRateControl::source() const {
+  return [G = G_, e = e_](const Vec3&) { return Vec3(*G * e); };
+}
+
+Real FlowRateControl::bulk_velocity(const Grid& g, const FlowField& f) const {
+  Real flux = 0.0;
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    const Block& b = g.blocks[ib];
+    for_each_cell(b, [&](int i, int j, int k) { flux += b.vol(i, j, k) * e_.dot(f.Q[ib](i, j, k).tail<3>()); });
+  }
+  return flux / volume_;
+}
+
+void FlowRateControl::update(const Grid& g, const FlowField& f,
+                             const std::map<std::string, std::vector<WallFace>>& walls) {
+  // Force of the fluid on the walls along e: shear cf/2 (U_ref = 1) and pressure
+  // -p n = -cp/2 n (n into the fluid).
+  Real Fw = 0.0;
+  for (const auto& [name, faces] : walls)
+    for (const WallFace& w : faces) Fw += 0.5 * w.area * e_.dot(w.cf - w.cp * w.n);
+  const Real ub = bulk_velocity(g, f);
+  if (!(ub > 0.0)) return;  // the flow runs backwards or is not finite: keep the force
+  const Real balance = Fw / volume_ * (target_ / ub) * (target_ / ub);
+  *G_ += 0.5 * (balance - *G_);
+}
+
+}  // namespace narwhal
