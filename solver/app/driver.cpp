@@ -119,6 +119,7 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
 
   RestartInfo info;
   if (opt.restart) info = read_restart(*opt.restart, g, field);
+  if (flow_rate && info.body_force > 0.0) flow_rate->set_magnitude(info.body_force);
   if (c.solver.planar_shortcut) {
     const std::string planar = mark_planar_blocks(g, field, fp);
     if (!planar.empty()) fmt::print("narwhal: {}\n", planar);
@@ -158,7 +159,7 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   std::vector<Real> turb_res(turb_names.size(), 0.0), turb_ref(turb_names.size(), -1.0);
   for (std::size_t m = 0; m < turb_ref.size() && opt.restart; ++m) turb_ref[m] = info.turbulence_reference[m];
   auto restart_info = [&](int it, Real wall) {
-    RestartInfo r{it, solver.reference_norm(), wall, {-1.0, -1.0}};
+    RestartInfo r{it, solver.reference_norm(), wall, {-1.0, -1.0}, flow_rate ? flow_rate->magnitude() : -1.0};
     for (std::size_t m = 0; m < turb_ref.size(); ++m) r.turbulence_reference[m] = turb_ref[m];
     return r;
   };

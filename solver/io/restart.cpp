@@ -58,6 +58,7 @@ void write_restart(const std::string& path, const Grid& g, const FlowField& f, c
   write_scalar_attr(file, "wall_seconds", H5T_NATIVE_DOUBLE, info.wall_seconds);
   write_scalar_attr(file, "turbulence_reference_0", H5T_NATIVE_DOUBLE, info.turbulence_reference[0]);
   write_scalar_attr(file, "turbulence_reference_1", H5T_NATIVE_DOUBLE, info.turbulence_reference[1]);
+  write_scalar_attr(file, "body_force", H5T_NATIVE_DOUBLE, info.body_force);
   hid_t blocks = H5Gcreate2(file, "blocks", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   std::vector<double> buf;
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
@@ -105,6 +106,8 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f) {
   info.iteration = read_scalar_attr<int>(file, "iteration", H5T_NATIVE_INT, path);
   info.reference_norm = read_scalar_attr<double>(file, "reference_norm", H5T_NATIVE_DOUBLE, path);
   info.wall_seconds = read_scalar_attr<double>(file, "wall_seconds", H5T_NATIVE_DOUBLE, path);
+  if (H5Aexists(file, "body_force") > 0)
+    info.body_force = read_scalar_attr<double>(file, "body_force", H5T_NATIVE_DOUBLE, path);
   if (H5Aexists(file, "turbulence_reference_0") > 0) {
     info.turbulence_reference[0] = read_scalar_attr<double>(file, "turbulence_reference_0", H5T_NATIVE_DOUBLE, path);
     info.turbulence_reference[1] = read_scalar_attr<double>(file, "turbulence_reference_1", H5T_NATIVE_DOUBLE, path);

@@ -14,6 +14,7 @@ struct RestartInfo {
   Real reference_norm = -1.0;
   Real wall_seconds = 0.0;
   Real turbulence_reference[2] = {-1.0, -1.0};  // first residuals of the turbulence model's variables
+  Real body_force = -1.0;  // magnitude of a flow-rate-controlled body force (< 0: none)
 };
 
 // Writes atomically (temporary file + rename) so a crash never leaves a torn restart.

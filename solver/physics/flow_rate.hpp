@@ -36,6 +36,8 @@ class FlowRateControl {
   Real bulk_velocity(const Grid& g, const FlowField& f) const;
   void update(const Grid& g, const FlowField& f, const std::map<std::string, std::vector<WallFace>>& walls);
   Vec3 force() const { return *G_ * e_; }
+  Real magnitude() const { return *G_; }
+  void set_magnitude(Real G) { *G_ = G; }  // from a restart
 
  private:
   Vec3 e_;

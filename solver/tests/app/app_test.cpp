@@ -196,6 +196,16 @@ TEST(Restart, TurbulentMultigridRunContinuesBitForBit) {
   }
 }
 
+// The non-linear k-epsilon duct at constant flow rate: the adjusted body force must
+// come back from the restart too (the history holds the residuals it drives).
+TEST(Restart, FlowRateControlledNonlinearDuctContinuesBitForBit) {
+  const std::string file = "validation/cases/square_duct_turbulent/duct_nl.toml";
+  expect_restart_reproduces_history(
+      load_case(test::source_path(file), {"grid.y=[-1.0, 1.0, 16]", "grid.z=[-1.0, 1.0, 16]",
+                                          "grid.first_spacing_y=0.02", "grid.first_spacing_z=0.02"}),
+      "narwhal_restart_duct_nl", 30, 15);
+}
+
 TEST(Robustness, NonFiniteStateIsReportedWithBlockCellAndEquation) {
   const CaseConfig c = small_plate();
   Grid g = build_grid(c);
