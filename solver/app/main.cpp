@@ -1,6 +1,8 @@
 // narwhal: command-line front end. `narwhal run CASE.toml`, `narwhal check CASE.toml`.
 #include <unistd.h>
 
+#include <algorithm>
+
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -61,7 +63,9 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     if (*list_models) {
-      for (const auto& m : turbulence_models()) fmt::print("{:<14} {}\n", m.name, m.summary);
+      std::size_t width = 0;
+      for (const auto& m : turbulence_models()) width = std::max(width, m.name.size());
+      for (const auto& m : turbulence_models()) fmt::print("{:<{}}  {}\n", m.name, width, m.summary);
       return 0;
     }
     if (*check) return check_case(check_path, overrides);
