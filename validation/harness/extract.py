@@ -252,6 +252,23 @@ def duct(ctx, spec, run_id):
     raise HarnessError("duct: quantity must be umax_over_ubulk or f_re")
 
 
+def history_steadiness(ctx, spec, run_id):
+    """Largest relative change of a history column over the last `window` iterations
+    (e.g. a force coefficient: 1e-5 means steady to 5 digits)."""
+    t = read_csv(ctx.run_dir(run_id) / "history.csv")
+    col = _need(spec, "column", "a history.csv column")
+    if col not in t:
+        raise HarnessError(f"history.csv of '{run_id}' has no column '{col}' (columns: {', '.join(t)})")
+    window = int(spec.get("window", 50))
+    v = t[col]
+    if v.size < window + 1:
+        raise HarnessError(f"history.csv of '{run_id}' has {v.size} rows, fewer than the window {window} + 1")
+    last = v[-1]
+    if last == 0.0:
+        raise HarnessError(f"'{col}' of '{run_id}' ends at zero: a relative change is undefined")
+    return float(np.max(np.abs(v[-window - 1:] - last)) / abs(last))
+
+
 def history_difference(ctx, spec, run_id):
     """Largest relative difference between two runs' history rows (wall time excluded),
     over the iterations both have: 0 when a restarted run repeats an uninterrupted one."""
@@ -295,7 +312,8 @@ def curve_difference(ctx, spec, run_id):
 
 
 KINDS = {"cf_vs_retheta": cf_vs_retheta, "surface": surface, "surface_at": surface_at, "wall_units": wall_units, "ratio": ratio, "curve_difference": curve_difference, "run_json": run_json, "history_last": history_last, "field_error": field_error, "boundary_layer": boundary_layer,
-         "duct": duct, "duct_flow": duct_flow, "history_difference": history_difference}
+         "duct": duct, "duct_flow": duct_flow, "history_difference": history_difference,
+         "history_steadiness": history_steadiness}
 
 
 def extract(ctx, spec):

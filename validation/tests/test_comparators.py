@@ -163,3 +163,33 @@ class ReferenceRows(unittest.TestCase):
         from harness.reference import ReferenceFile
         with self.assertRaisesRegex(HarnessError, "not numeric"):
             ReferenceFile(self.root, "t.csv").column("model")
+
+
+class DuctVortexCells(unittest.TestCase):
+    """The vortex-cell count of the duct rung on hand-made stream functions."""
+
+    def grid(self, n=48):
+        y = np.linspace(-1.0, 1.0, n)
+        return np.meshgrid(y, y)
+
+    def test_eight_cells_of_a_square_duct_pattern(self):
+        from harness.duct import count_cells
+        y, z = self.grid()
+        # sin(4 theta) r^4 = 4 y z (y^2 - z^2): eight lobes of alternating sign, one per
+        # half-corner, vanishing on the walls.
+        psi = y * z * (y * y - z * z) * (1 - y * y) * (1 - z * z)
+        self.assertEqual(count_cells(psi, 0.05 * np.abs(psi).max()), 8)
+
+    def test_one_cell_and_none(self):
+        from harness.duct import count_cells
+        y, z = self.grid()
+        psi = (1 - y * y) * (1 - z * z)
+        self.assertEqual(count_cells(psi, 0.05), 1)
+        self.assertEqual(count_cells(0.0 * psi, 0.05), 0)
+
+    def test_annotated_result_carries_its_plot_through_min_max(self):
+        from harness.duct import Annotated
+        r = compare("min", Annotated(8, {"kind": "duct_field"}), None, 8, {})
+        self.assertTrue(r["pass"])
+        self.assertEqual(r["plot"]["kind"], "duct_field")
+        self.assertFalse(compare("max", Annotated(9, {"kind": "duct_field"}), None, 8, {})["pass"])
