@@ -172,13 +172,8 @@ void NewtonSolver::assemble_block(int ib, Real cfl) {
     AL_[ib][d](f) = AL;
     AR_[ib][d](f) = AR;
   };
-  for (int d = 0; d < 3; ++d) {
-    Index3 lo{0, 0, 0}, hi = b.dims();
-    lo[d] = 1;  // faces between two interior cells; block faces are done per patch below
-    for (int k = lo[2]; k < hi[2]; ++k)
-      for (int j = lo[1]; j < hi[1]; ++j)
-        for (int i = lo[0]; i < hi[0]; ++i) interior_face(d, Index3{i, j, k});
-  }
+  for (int d = 0; d < 3; ++d)  // block faces are done per patch below
+    for_each_interior_face(b, d, [&](const Index3& f) { interior_face(d, f); });
   // Physical boundary faces: replace by the derivative through the BC (§5.0).
   for (const Patch& p : b.patches) {
     const int d = side_dir(p.side);

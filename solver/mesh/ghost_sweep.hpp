@@ -60,6 +60,17 @@ inline State donor_state(const Interface& itf, const GhostArray<State>& donor_fi
   return q;
 }
 
+// Calls fn(face) for every face of direction d between two cells of the block (the
+// face index is that of the cell on its high side); block faces are left to patches.
+template <class F>
+void for_each_interior_face(const Block& b, int d, F&& fn) {
+  Index3 lo{0, 0, 0}, hi = b.dims();
+  lo[d] = 1;
+  for (int k = lo[2]; k < hi[2]; ++k)
+    for (int j = lo[1]; j < hi[1]; ++j)
+      for (int i = lo[0]; i < hi[0]; ++i) fn(Index3{i, j, k});
+}
+
 template <class F>
 void for_each_in(const PatchRange& r, F&& f) {
   for (int k = r.lo[2]; k < r.hi[2]; ++k)

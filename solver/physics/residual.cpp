@@ -13,17 +13,11 @@ void add_nonlinear_stress_flux(const Block& b, const GhostArray<Mat3>& T, GhostA
   auto flux = [&](int d, const Index3& f) { return Vec3(0.5 * (T(add(f, unit(d), -1)) + T(f)) * b.S[d](f)); };
   for (int d = 0; d < 3; ++d) {
     if (d == b.planar_dir) continue;  // in-plane S and mirror ghosts: no net flux
-    const Index3 e = unit(d);
-    Index3 lo{0, 0, 0}, hi = b.dims();
-    lo[d] = 1;
-    for (int k = lo[2]; k < hi[2]; ++k)
-      for (int j = lo[1]; j < hi[1]; ++j)
-        for (int i = lo[0]; i < hi[0]; ++i) {
-          const Index3 f{i, j, k};
-          const Vec3 F = flux(d, f);
-          Rb(add(f, e, -1)).tail<3>() -= F;
-          Rb(f).tail<3>() += F;
-        }
+    for_each_interior_face(b, d, [&](const Index3& f) {
+      const Vec3 F = flux(d, f);
+      Rb(add(f, unit(d), -1)).tail<3>() -= F;
+      Rb(f).tail<3>() += F;
+    });
   }
   for (const Patch& p : b.patches) {
     if (p.type == BcType::Wall || side_dir(p.side) == b.planar_dir) continue;
@@ -130,17 +124,11 @@ void compute_residual(const Grid& g, const FlowField& fl, const FlowParams& fp, 
     if (Rb.ni() != b.ni || Rb.nj() != b.nj || Rb.nk() != b.nk) Rb.resize(b.ni, b.nj, b.nk, 0);
     Rb.fill(State::Zero());
     for (int d = 0; d < 3; ++d) {
-      const Index3 e = unit(d);
-      Index3 lo{0, 0, 0}, hi = b.dims();
-      lo[d] = 1;  // interior faces only; boundary faces come from the patches
-      for (int k = lo[2]; k < hi[2]; ++k)
-        for (int j = lo[1]; j < hi[1]; ++j)
-          for (int i = lo[0]; i < hi[0]; ++i) {
-            const Index3 f{i, j, k};
-            const State F = muscl_face_flux(b, Q, nu, d, f, fp);
-            Rb(add(f, e, -1)) += F;
-            Rb(f) -= F;
-          }
+      for_each_interior_face(b, d, [&](const Index3& f) {  // boundary faces come from the patches
+        const State F = muscl_face_flux(b, Q, nu, d, f, fp);
+        Rb(add(f, unit(d), -1)) += F;
+        Rb(f) -= F;
+      });
     }
     for (const Patch& p : b.patches) {
       if (side_dir(p.side) == b.planar_dir) continue;  // the two symmetry planes cancel (physics/planar.hpp)

@@ -168,11 +168,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
     Work& w = work_[ib];
     for (int d = 0; d < 3; ++d) {
       if (d == b.planar_dir) continue;
-      Index3 lo{0, 0, 0}, hi = b.dims();
-      lo[d] = 1;
-      for (int k = lo[2]; k < hi[2]; ++k)
-        for (int j = lo[1]; j < hi[1]; ++j)
-          for (int i = lo[0]; i < hi[0]; ++i) w.U[d](i, j, k) = interior_volume_flux(b, f.Q[ib], d, {i, j, k}, fp);
+      for_each_interior_face(b, d, [&](const Index3& fi) { w.U[d](fi) = interior_volume_flux(b, f.Q[ib], d, fi, fp); });
     }
     for (const Patch& p : b.patches) {
       const int d = side_dir(p.side);
@@ -242,26 +238,21 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
       // Interior faces.
       for (int d = 0; d < 3; ++d) {
         if (d == b.planar_dir) continue;
-        const Index3 e = unit(d);
-        Index3 lo{0, 0, 0}, hi = b.dims();
-        lo[d] = 1;
-        for (int k = lo[2]; k < hi[2]; ++k)
-          for (int j = lo[1]; j < hi[1]; ++j)
-            for (int i = lo[0]; i < hi[0]; ++i) {
-              const Index3 fi{i, j, k}, cL = add(fi, e, -1), cR = fi;
-              const Real U = w.U[d](fi);
-              const FaceDiffusivity c = face_coeff(d, cL, cR, fi);
-              const TurbState conv = positive(U) * T(cL) + negative(U) * T(cR);
-              const TurbState jump = T(cR) - T(cL);
-              w.R(cL) += conv - c.left.cwiseProduct(jump);
-              w.R(cR) -= conv - c.right.cwiseProduct(jump);
-              w.D(cL) += TurbState::Constant(positive(U)) + c.left;
-              w.D(cR) += c.right - TurbState::Constant(negative(U));
-              w.aR[d](fi) = TurbState::Constant(negative(U)) - c.left;    // dR_L / dphi_R
-              w.aL[d](fi) = -(TurbState::Constant(positive(U)) + c.right);  // dR_R / dphi_L
-              lam(cL) += 0.5 * std::abs(U) + c.left.maxCoeff();
-              lam(cR) += 0.5 * std::abs(U) + c.right.maxCoeff();
-            }
+        for_each_interior_face(b, d, [&](const Index3& fi) {
+          const Index3 cL = add(fi, unit(d), -1), cR = fi;
+          const Real U = w.U[d](fi);
+          const FaceDiffusivity c = face_coeff(d, cL, cR, fi);
+          const TurbState conv = positive(U) * T(cL) + negative(U) * T(cR);
+          const TurbState jump = T(cR) - T(cL);
+          w.R(cL) += conv - c.left.cwiseProduct(jump);
+          w.R(cR) -= conv - c.right.cwiseProduct(jump);
+          w.D(cL) += TurbState::Constant(positive(U)) + c.left;
+          w.D(cR) += c.right - TurbState::Constant(negative(U));
+          w.aR[d](fi) = TurbState::Constant(negative(U)) - c.left;    // dR_L / dphi_R
+          w.aL[d](fi) = -(TurbState::Constant(positive(U)) + c.right);  // dR_R / dphi_L
+          lam(cL) += 0.5 * std::abs(U) + c.left.maxCoeff();
+          lam(cR) += 0.5 * std::abs(U) + c.right.maxCoeff();
+        });
       }
       // Boundary faces: the ghost follows the BC, d(ghost)/d(phi_1) = dg.
       for (const Patch& p : b.patches) {
