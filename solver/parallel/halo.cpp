@@ -18,25 +18,6 @@ std::size_t ExchangePlan::sent_cells() const {
   return n;
 }
 
-namespace {
-
-// Every (ghost, donor) pair of interface ghosts of block ib, in the serial sweep order.
-template <class F>
-void interface_ghosts(const Grid& g, int ib, F&& visit) {
-  const Block& b = g.blocks[ib];
-  for (int d = 0; d < 3; ++d)
-    for (int m = 1; m <= kGhost; ++m)
-      for (const Patch& p : b.patches) {
-        if (side_dir(p.side) != d || p.type != BcType::Interface) continue;
-        const Interface& itf = g.interfaces[p.interface];
-        for_each_in(extended_cell_range(b, p), [&](Index3 c) {
-          const Index3 gc = ghost_cell(b, p.side, c, m);
-          visit(p.interface, gc, itf.donor, itf.map_cell(gc));
-        });
-      }
-}
-
-}  // namespace
 
 ExchangePlan build_exchange_plan(const Grid& g, const std::vector<int>& owner, int rank) {
   if (owner.size() != g.blocks.size()) fail("exchange plan: {} owners for {} blocks", owner.size(), g.blocks.size());
@@ -47,7 +28,7 @@ ExchangePlan build_exchange_plan(const Grid& g, const std::vector<int>& owner, i
   // mine that other ranks' (or my) ghosts need, in the receiver's order: the loop
   // over receiving blocks is the same on both ends.
   for (int ib = 0; ib < static_cast<int>(g.blocks.size()); ++ib) {
-    interface_ghosts(g, ib, [&](int itf, const Index3& gc, int donor, const Index3& dc) {
+    for_each_interface_ghost(g, ib, [&](int itf, const Index3& gc, int donor, const Index3& dc) {
       if (owner[ib] == rank) {
         HaloPeer& p = peers[owner[donor]];
         p.rank = owner[donor];

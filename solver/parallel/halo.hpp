@@ -34,15 +34,20 @@ struct ExchangePlan {
   std::size_t sent_cells() const;  // off-rank only
 };
 
-// Calls visit(ghost cell) for every interface ghost of block ib (the plan's cells).
+// Calls visit(interface, ghost cell, donor block, donor cell) for every interface
+// ghost of block ib, in the serial sweep's order (the plan's order).
 template <class F>
-void interface_ghost_cells(const Grid& g, int ib, F&& visit) {
+void for_each_interface_ghost(const Grid& g, int ib, F&& visit) {
   const Block& b = g.blocks[ib];
   for (int d = 0; d < 3; ++d)
     for (int m = 1; m <= kGhost; ++m)
       for (const Patch& p : b.patches) {
         if (side_dir(p.side) != d || p.type != BcType::Interface) continue;
-        for_each_in(extended_cell_range(b, p), [&](Index3 c) { visit(ghost_cell(b, p.side, c, m)); });
+        const Interface& itf = g.interfaces[p.interface];
+        for_each_in(extended_cell_range(b, p), [&](Index3 c) {
+          const Index3 gc = ghost_cell(b, p.side, c, m);
+          visit(p.interface, gc, itf.donor, itf.map_cell(gc));
+        });
       }
 }
 

@@ -51,14 +51,14 @@ TEST(Halo, ExchangeReproducesTheSerialGhostFillOnAnyRankCount) {
       Q[ib].fill(nan);  // not ours: must never be read
       continue;
     }
-    interface_ghost_cells(g, static_cast<int>(ib), [&](const Index3& gc) { Q[ib](gc) = nan; });
+    for_each_interface_ghost(g, static_cast<int>(ib), [&](int, const Index3& gc, int, const Index3&) { Q[ib](gc) = nan; });
   }
   for (int round = 0; round < 2; ++round) exchange_halo(g, plan, Q);
 
   long long wrong = 0, checked = 0;
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     if (a.owner[ib] != comm.rank()) continue;
-    interface_ghost_cells(g, static_cast<int>(ib), [&](const Index3& gc) {
+    for_each_interface_ghost(g, static_cast<int>(ib), [&](int, const Index3& gc, int, const Index3&) {
       ++checked;
       if (!(Q[ib](gc) == ref.Q[ib](gc))) ++wrong;
     });
