@@ -12,6 +12,8 @@
 #include "io/cgns_writer.hpp"
 #include "io/monitors.hpp"
 #include "io/restart.hpp"
+#include "parallel/communicator.hpp"
+#include "parallel/distribution.hpp"
 #include "physics/flow_rate.hpp"
 #include "physics/planar.hpp"
 #include "physics/wall_forces.hpp"
@@ -62,13 +64,13 @@ std::string json_escape(const std::string& s) {
 
 void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g, const RunSummary& s,
                     const IterationNorms& last, const std::map<std::string, ForceCoefficients>& forces,
-                    const Vec3& body_force) {
+                    const Vec3& body_force, int ranks) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) fail("cannot write '{}'", path);
   fmt::print(f, "{{\n  \"case\": \"{}\",\n  \"title\": \"{}\",\n", json_escape(c.file), json_escape(c.title));
   fmt::print(f, "  \"status\": \"{}\",\n  \"message\": \"{}\",\n", to_string(s.status), json_escape(s.message));
-  fmt::print(f, "  \"iterations\": {},\n  \"wall_seconds\": {:.6f},\n  \"cells\": {},\n  \"blocks\": {},\n", s.iterations,
-             s.wall_seconds, g.cells(), g.blocks.size());
+  fmt::print(f, "  \"iterations\": {},\n  \"wall_seconds\": {:.6f},\n  \"cells\": {},\n  \"blocks\": {},\n  \"ranks\": {},\n",
+             s.iterations, s.wall_seconds, g.cells(), g.blocks.size(), ranks);
   fmt::print(f, "  \"residual_drop\": {:.6e},\n  \"final_residual\": {{\"p\": {:.6e}, \"u\": {:.6e}, \"v\": {:.6e}, \"w\": {:.6e}}},\n",
              s.residual_drop, last.l2[0], last.l2[1], last.l2[2], last.l2[3]);
   fmt::print(f, "  \"settings\": {{\"reynolds\": {:.9g}, \"beta\": {:.9g}, \"viscous\": \"{}\", \"muscl_kappa\": {:.9g}, "
@@ -94,18 +96,25 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
   std::fclose(f);
 }
 
-void all_forces(const std::map<std::string, std::vector<WallFace>>& faces, const OutputConfig& o,
-                std::map<std::string, ForceCoefficients>& out) {
-  for (const auto& [name, list] : faces)
-    out[name] = integrate_forces(list, o.reference_area, o.reference_length, o.moment_centre);
-}
 
 }  // namespace
 
 RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   namespace fs = std::filesystem;
   using clock = std::chrono::steady_clock;
-  Grid g = build_grid(c);
+  const Communicator comm = Communicator::world();
+  const bool root = comm.is_root();
+  // The case's own blocks (the layout of every file), and the blocks the run computes
+  // on: cut into pieces until they share out over the ranks (parallel/partition.hpp).
+  const int split_for = c.split_for > 0 ? c.split_for : comm.size();
+  if (split_for > 1 && c.turbulence.model == "baldwin-lomax")
+    fail("{}: Baldwin-Lomax searches whole wall-normal grid lines inside a block, which balance cuts would break; "
+         "run it on one rank with parallel.split_for = 1", c.file);
+  const bool pieces = split_for > 1;
+  Grid g = build_grid(c, split_for);
+  Grid whole;
+  if (pieces) whole = build_grid(c);
+  distribute(g, comm.size(), comm.rank());
   FlowParams fp = flow_params(c);
   std::unique_ptr<FlowRateControl> flow_rate;
   if (c.bulk_velocity > 0.0) {
@@ -114,22 +123,48 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   }
   FlowField field;
   field.allocate(g, fp, c.initial);
-  fs::create_directories(opt.out_dir);
+  if (root) fs::create_directories(opt.out_dir);
+  comm.barrier();
   const std::string restart_path = (fs::path(opt.out_dir) / "restart.h5").string();
 
   RestartInfo info;
-  if (opt.restart) info = read_restart(*opt.restart, g, field);
+  if (opt.restart) {
+    // Every rank reads the file (written in the case's layout) and keeps its pieces.
+    if (pieces) {
+      FlowField w;
+      w.allocate(whole, fp, c.initial);
+      info = read_restart(*opt.restart, whole, w);
+      copy_between_layouts(g, field, whole, w, false);
+    } else {
+      info = read_restart(*opt.restart, g, field);
+    }
+  }
+  // The root writes files in the case's layout from every rank's cells.
+  FlowField whole_field;
+  auto assemble = [&]() -> FlowField& {
+    gather_to_root(g, field);
+    if (!pieces) return field;
+    if (root) {
+      if (whole_field.Q.empty()) whole_field.allocate(whole, fp, c.initial);
+      copy_between_layouts(g, field, whole, whole_field, true);
+    }
+    return whole_field;
+  };
+  auto save_restart = [&](const RestartInfo& r) {
+    FlowField& out = assemble();
+    if (root) write_restart(restart_path, pieces ? whole : g, out, r, c.text);
+  };
   if (flow_rate && info.body_force > 0.0) flow_rate->set_magnitude(info.body_force);
   if (c.solver.planar_shortcut) {
     const std::string planar = mark_planar_blocks(g, field, fp);
-    if (!planar.empty()) fmt::print("narwhal: {}\n", planar);
+    if (!planar.empty() && root) fmt::print("narwhal: {}\n", planar);
   }
   // Single grid: one Newton-SGS iteration per step; multigrid: one FAS cycle.
   std::unique_ptr<NewtonSolver> single;
   std::unique_ptr<Multigrid> mg;
   if (c.solver.multigrid.levels > 1) {
     mg = std::make_unique<Multigrid>(g, field, fp, c.solver.newton, c.solver.multigrid);
-    if (!mg->level_note().empty()) fmt::print("narwhal: {}\n", mg->level_note());
+    if (!mg->level_note().empty() && root) fmt::print("narwhal: {}\n", mg->level_note());
   } else {
     single = std::make_unique<NewtonSolver>(g, field, fp, c.solver.newton);
   }
@@ -152,10 +187,13 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   // Wall groups are known from the patches; forces appear in the history per group.
   fill_ghosts(g, field, fp);
   std::vector<std::string> groups;
-  for (const auto& [name, list] : wall_faces(g, field, fp)) groups.push_back(name);
+  for (const auto& [name, list] : wall_faces(g, field, fp)) groups.push_back(name);  // every rank: all groups
   std::vector<std::string> turb_names;
   for (int m = 0; turb && m < turb->num_variables(); ++m) turb_names.push_back(turb->variable_name(m));
-  HistoryWriter history((fs::path(opt.out_dir) / "history.csv").string(), groups, opt.restart.has_value(), turb_names);
+  std::unique_ptr<HistoryWriter> history;
+  if (root)
+    history = std::make_unique<HistoryWriter>((fs::path(opt.out_dir) / "history.csv").string(), groups,
+                                              opt.restart.has_value(), turb_names);
   std::vector<Real> turb_res(turb_names.size(), 0.0), turb_ref(turb_names.size(), -1.0);
   for (std::size_t m = 0; m < turb_ref.size() && opt.restart; ++m) turb_ref[m] = info.turbulence_reference[m];
   auto restart_info = [&](int it, Real wall) {
@@ -174,8 +212,9 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   std::map<std::string, ForceCoefficients> forces;
   std::map<std::string, std::vector<WallFace>> faces;  // reused every iteration
   auto last_print = clock::now();
-  if (!opt.progress)
-    fmt::print("narwhal: {} — {} blocks, {} cells, up to {} {}\n", c.title, g.blocks.size(), g.cells(), max_it,
+  if (!opt.progress && root)
+    fmt::print("narwhal: {} — {} blocks, {} cells{}, up to {} {}\n", c.title, g.blocks.size(), g.cells(),
+               comm.size() > 1 ? fmt::format(", {} ranks", comm.size()) : std::string(), max_it,
                mg ? fmt::format("{}-cycles on {} levels", c.solver.multigrid.gamma == 2 ? "W" : "V", mg->levels())
                   : std::string("iterations"));
 
@@ -184,7 +223,7 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
       const int it = s.iterations + 1;
       last = step();  // residual of the state entering this iteration (or cycle), then the update
       wall_faces(g, field, fp, faces);
-      all_forces(faces, c.output, forces);
+      forces = integrate_forces(g, faces, c.output.reference_area, c.output.reference_length, c.output.moment_centre);
       if (flow_rate) flow_rate->update(g, field, faces);
       turb_drop = 0.0;
       for (std::size_t m = 0; m < turb_res.size(); ++m) {
@@ -195,7 +234,7 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
         turb_ref[m] = std::max(turb_ref[m], turb_res[m]);
         turb_drop = std::max(turb_drop, turb_res[m] / std::max(turb_ref[m], 1e-300));
       }
-      history.write(it, elapsed(), last, forces, turb_res);
+      if (history) history->write(it, elapsed(), last, forces, turb_res);
       s.iterations = it;
       s.residual_drop = last.total / solver.reference_norm();
       if (!std::isfinite(last.total) || s.residual_drop > c.solver.divergence_factor) {
@@ -210,10 +249,10 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
       }
       if (c.output.restart_interval > 0 && it % c.output.restart_interval == 0) {
         solver.check_finite();
-        history.flush();
-        write_restart(restart_path, g, field, restart_info(it, elapsed()), c.text);
+        if (history) history->flush();
+        save_restart(restart_info(it, elapsed()));
       }
-      if (opt.progress && (clock::now() - last_print > std::chrono::milliseconds(200))) {
+      if (opt.progress && root && (clock::now() - last_print > std::chrono::milliseconds(200))) {
         last_print = clock::now();
         // ETA from the mean logarithmic convergence rate so far.
         const Real rate = std::log(std::max(s.residual_drop, 1e-300)) / it;
@@ -233,23 +272,34 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
     s.message = fmt::format("not converged (mean-flow drop {:.2e}{}); largest residual at {}", s.residual_drop,
                             turb ? fmt::format(", turbulence drop {:.2e}", turb_drop) : std::string(),
                             solver.describe_largest_residual());
-  if (opt.progress) fmt::print("\n");
-  s.wall_seconds = elapsed();
-  history.flush();
+  if (opt.progress && root) fmt::print("\n");
+  s.wall_seconds = comm.max(elapsed());
+  if (history) history->flush();
   if (s.status != RunStatus::Diverged) {
-    write_restart(restart_path, g, field, restart_info(s.iterations, s.wall_seconds), c.text);
-    fill_ghosts(g, field, fp);
-    wall_faces(g, field, fp, faces);
-    for (const auto& [name, list] : faces)
-      write_surface_csv((fs::path(opt.out_dir) / fmt::format("surface_{}.csv", name)).string(), list);
-    std::vector<std::string> cgns_turb;
-    for (int m = 0; turb && m < turb->num_variables(); ++m) cgns_turb.push_back(turb->cgns_name(m));
-    write_cgns_solution((fs::path(opt.out_dir) / "solution.cgns").string(), g, field, cgns_turb, 1.0 / fp.reynolds);
-  } else {
+    save_restart(restart_info(s.iterations, s.wall_seconds));
+    if (root) {  // surfaces and the solution from the assembled field, as a serial run
+      FlowField& out = pieces ? whole_field : field;
+      Grid& out_grid = pieces ? whole : g;
+      const std::vector<int> owner = out_grid.owner;
+      out_grid.owner.clear();  // the root holds every block now: a serial ghost fill
+      out_grid.halo.reset();
+      fill_ghosts(out_grid, out, fp);
+      for (const auto& [name, list] : wall_faces(out_grid, out, fp))
+        write_surface_csv((fs::path(opt.out_dir) / fmt::format("surface_{}.csv", name)).string(), list);
+      std::vector<std::string> cgns_turb;
+      for (int m = 0; turb && m < turb->num_variables(); ++m) cgns_turb.push_back(turb->cgns_name(m));
+      write_cgns_solution((fs::path(opt.out_dir) / "solution.cgns").string(), out_grid, out, cgns_turb,
+                          1.0 / fp.reynolds);
+      out_grid.owner = owner;
+      out_grid.halo.reset();
+    }
+  } else if (root) {
     s.message += fs::exists(restart_path) ? "; the last good restart.h5 is kept" : "; no restart was written before";
   }
+  comm.barrier();
+  if (!root) return s;
   write_run_json((fs::path(opt.out_dir) / "run.json").string(), c, g, s, last, forces,
-                 flow_rate ? flow_rate->force() : c.body_force);
+                 flow_rate ? flow_rate->force() : c.body_force, comm.size());
   fmt::print("narwhal: {} after {} iterations, residual drop {:.2e}, {:.1f} s{}{}\n", to_string(s.status),
              s.iterations, s.residual_drop, s.wall_seconds, s.message.empty() ? "" : ": ", s.message);
   return s;

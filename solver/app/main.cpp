@@ -8,6 +8,9 @@
 
 #include "app/driver.hpp"
 #include "core/error.hpp"
+#include "parallel/communicator.hpp"
+#include "parallel/halo.hpp"
+#include "parallel/partition.hpp"
 #include "turbulence/model.hpp"
 #include "version.hpp"
 
@@ -36,9 +39,34 @@ int check_case(const std::string& path, const std::vector<std::string>& override
   return 0;
 }
 
+// How a case would be distributed over `ranks`: blocks after the balancing cuts,
+// cells per rank, and the halo each rank receives per exchange (cells and messages).
+int partition_case(const std::string& path, const std::vector<std::string>& overrides, int ranks) {
+  const CaseConfig c = load_case(path, overrides);
+  const Grid g = build_grid(c, ranks);
+  const BlockAssignment a = assign_blocks(g, ranks);
+  fmt::print("{}: {} cells in {} block(s) over {} rank(s), load imbalance {:.2f} %\n", path, g.cells(), g.blocks.size(),
+             ranks, 100.0 * a.imbalance());
+  std::size_t total_halo = 0;
+  for (int r = 0; r < ranks; ++r) {
+    const ExchangePlan plan = build_exchange_plan(g, a.owner, r);
+    std::size_t messages = 0;
+    for (const HaloPeer& p : plan.peers) messages += p.rank != r && !p.send.empty();
+    int blocks = 0;
+    for (int o : a.owner) blocks += o == r;
+    fmt::print("  rank {:3d}: {:4d} block(s), {:9d} cells, sends {:8d} halo cells in {:3d} message(s)\n", r, blocks,
+               a.cells[r], plan.sent_cells(), messages);
+    total_halo += plan.sent_cells();
+  }
+  fmt::print("  halo per exchange: {} cells, {:.2f} % of the cells\n", total_halo, 100.0 * total_halo / g.cells());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  narwhal::ParallelSession session(argc, argv);  // MPI_Init / MPI_Finalize in MPI builds
+  const narwhal::Communicator comm = narwhal::Communicator::world();
   CLI::App app{"Narwhal: implicit artificial-compressibility RANS solver (McDonald & Whitfield 1997 method)"};
   app.set_version_flag("--version", fmt::format("narwhal {} ({})", kVersion, kGitSha));
   app.require_subcommand(1);
@@ -58,6 +86,13 @@ int main(int argc, char** argv) {
   check->add_option("case", check_path, "case file (TOML)")->required();
   check->add_option("--set", overrides, "override a case key (value in TOML syntax)");
 
+  std::string partition_path;
+  int ranks = 2;
+  auto* partition = app.add_subcommand("partition", "show how a case's blocks would be cut and shared over MPI ranks");
+  partition->add_option("case", partition_path, "case file (TOML)")->required();
+  partition->add_option("--ranks,-n", ranks, "number of ranks")->capture_default_str()->check(CLI::PositiveNumber);
+  partition->add_option("--set", overrides, "override a case key (value in TOML syntax)");
+
   auto* list_models = app.add_subcommand("list-models", "list the turbulence models (turbulence.model = \"name\")");
 
   CLI11_PARSE(app, argc, argv);
@@ -69,15 +104,19 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*check) return check_case(check_path, overrides);
+    if (*partition) return partition_case(partition_path, overrides, ranks);
     RunOptions opt;
     opt.out_dir = out_dir;
     if (!restart.empty()) opt.restart = restart;
     if (max_iterations >= 0) opt.max_iterations = max_iterations;
-    opt.progress = isatty(STDOUT_FILENO);
+    opt.progress = isatty(STDOUT_FILENO) && comm.is_root();
     const RunSummary s = run_case(load_case(case_path, overrides), opt);
     return s.status == RunStatus::Diverged ? 3 : (s.status == RunStatus::Converged ? 0 : 1);
   } catch (const Error& e) {
-    fmt::print(stderr, "narwhal: error: {}\n", e.what());
+    fmt::print(stderr, "narwhal: error{}: {}\n", comm.size() > 1 ? fmt::format(" (rank {})", comm.rank()) : "",
+               e.what());
+    // An error seen by one rank would leave the others waiting in a collective.
+    if (comm.size() > 1) comm.abort(2);
     return 2;
   }
 }

@@ -1,6 +1,7 @@
 #include "bc/boundary.hpp"
 
 #include "mesh/ghost_sweep.hpp"
+#include "parallel/halo.hpp"
 
 namespace narwhal {
 
@@ -81,23 +82,12 @@ State wall_flux(const Patch& p, const State& q1, const FaceGeom& face, bool high
 }
 
 void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
-  ghost_sweep(g, [&](int ib, const Patch& p, int m) {
+  auto physical = [&](int ib, const Patch& p, int m) {
     const Block& b = g.blocks[ib];
     auto& Q = f.Q[ib];
     auto& nu = f.nu[ib];
     const PatchRange r = extended_cell_range(b, p);
     const int d = side_dir(p.side);
-    if (p.type == BcType::Interface) {
-      const Interface& itf = g.interfaces[p.interface];
-      const auto& QD = f.Q[itf.donor];
-      const auto& nuD = f.nu[itf.donor];
-      for_each_in(r, [&](Index3 c) {
-        const Index3 gc = ghost_cell(b, p.side, c, m);
-        Q(gc) = donor_state(itf, QD, gc);
-        nu(gc) = nuD(itf.map_cell(gc));
-      });
-      return;
-    }
     if (d == b.planar_dir) {  // the mirror of an in-plane state is the state itself (physics/planar.hpp)
       for_each_in(r, [&](Index3 c) {
         Q(ghost_cell(b, p.side, c, m)) = Q(interior_cell(b, p.side, c, m));
@@ -121,6 +111,10 @@ void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
       Q(gc) = p.type == BcType::Dirichlet ? fp.exact(b.xc(gc)) : ghost_value(p, Q(cm), qb, n);
       nu(gc) = nu(cm);
     });
+  };
+  owned_ghost_sweep(g, physical, [&](const ExchangePlan& plan) {
+    exchange(g, plan, f.Q, RotateVelocity{});
+    exchange(g, plan, f.nu, Unrotated{});
   });
   if (!f.tau_nl.empty()) fill_tensor_ghosts(g, f.tau_nl);
 }
@@ -129,19 +123,10 @@ void fill_tensor_ghosts(const Grid& g, std::vector<GhostArray<Mat3>>& T) {
   // A Cartesian tensor: interfaces rotate it with the velocity's R (R T R^T),
   // symmetry planes mirror it (M T M, M = I - 2 n n^T), every other boundary copies
   // the interior (walls do not use it: their flux is §4.5's, and tau_NL = 0 there).
-  ghost_sweep(g, [&](int ib, const Patch& p, int m) {
+  auto physical = [&](int ib, const Patch& p, int m) {
     const Block& b = g.blocks[ib];
     auto& Tb = T[ib];
     const PatchRange r = extended_cell_range(b, p);
-    if (p.type == BcType::Interface) {
-      const Interface& itf = g.interfaces[p.interface];
-      const auto& TD = T[itf.donor];
-      for_each_in(r, [&](Index3 c) {
-        const Index3 gc = ghost_cell(b, p.side, c, m);
-        Tb(gc) = itf.R * TD(itf.map_cell(gc)) * itf.R.transpose();
-      });
-      return;
-    }
     const bool mirror = p.type == BcType::Symmetry && side_dir(p.side) != b.planar_dir;
     for_each_in(r, [&](Index3 c) {
       const Mat3& Tm = Tb(interior_cell(b, p.side, c, m));
@@ -153,22 +138,12 @@ void fill_tensor_ghosts(const Grid& g, std::vector<GhostArray<Mat3>>& T) {
         Tb(ghost_cell(b, p.side, c, m)) = Tm;
       }
     });
-  });
+  };
+  owned_ghost_sweep(g, physical, [&](const ExchangePlan& plan) { exchange(g, plan, T, RotateTensor{}); });
 }
 
 void exchange_interfaces(const Grid& g, std::vector<GhostArray<State>>& field) {
-  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
-    const Block& b = g.blocks[ib];
-    for (const Patch& p : b.patches) {
-      if (p.type != BcType::Interface) continue;
-      const Interface& itf = g.interfaces[p.interface];
-      const PatchRange r = face_range(p);
-      for_each_in(r, [&](Index3 c) {
-        const Index3 gc = ghost_cell(b, p.side, c, 1);
-        field[ib](gc) = donor_state(itf, field[itf.donor], gc);
-      });
-    }
-  }
+  if (!g.interfaces.empty()) exchange(g, halo_plans(g).faces, field, RotateVelocity{});
 }
 
 }  // namespace narwhal

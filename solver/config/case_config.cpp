@@ -1,5 +1,7 @@
 #include "config/case_config.hpp"
 
+#include "parallel/partition.hpp"
+
 #include "multigrid/coarsen.hpp"
 
 #include <filesystem>
@@ -160,6 +162,10 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
     c.periodic.push_back(p);
   }
 
+  c.split_for = r.integer_or("parallel.split_for", 0,
+                             "the rank count the blocks are cut for (0: the ranks of the run)");
+  if (c.split_for < 0) r.error("parallel.split_for", "must be >= 0");
+
   auto& s = c.solver;
   s.max_iterations = r.integer_or("solver.max_iterations", s.max_iterations, "the iteration limit");
   s.residual_drop = r.number_or("solver.residual_drop", s.residual_drop, "the residual reduction that ends the run");
@@ -240,7 +246,7 @@ CaseConfig load_case(const std::string& path, const std::vector<std::string>& ov
   return c;
 }
 
-Grid build_grid(const CaseConfig& c) {
+Grid build_grid(const CaseConfig& c, int balance_ranks) {
   Grid g;
   const auto& gc = c.grid;
   if (gc.type == "flat_plate") {
@@ -267,6 +273,7 @@ Grid build_grid(const CaseConfig& c) {
     }
   }
   if (gc.split != Index3{1, 1, 1} || gc.split_rotate) g = split_blocks(g, gc.split, gc.split_rotate);
+  if (balance_ranks > 1) g = split_for_balance(g, balance_ranks, 0.05, c.solver.multigrid.levels);
   // Every labelled patch needs a BC (or a periodic partner); every BC a patch.
   for (const auto& [label, bc] : c.bcs)
     if (assign_bc(g, label, bc) == 0) fail("{}: [bc.{}] matches no patch of the grid", c.file, label);

@@ -74,6 +74,10 @@ struct CaseConfig {
   Real bulk_velocity = 0.0;        // > 0: the body force is adjusted to this bulk velocity (physics/flow_rate.hpp)
   bool manufactured = false;
   ManufacturedSolution mms;
+  // Blocks are cut into pieces as if for this many ranks (0: the ranks of the run).
+  // Runs on different rank counts with the same value use the same blocks, and their
+  // answers agree bit for bit (parallel/reduction.hpp).
+  int split_for = 0;
 };
 
 // `overrides` are "dotted.key=value" assignments applied on top of the file.
@@ -82,7 +86,9 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                       const std::vector<std::string>& overrides = {});
 
 // Builds the grid (generator or import), applies BCs by label, connects periodic
-// pairs and free faces, computes the metrics and checks the result.
-Grid build_grid(const CaseConfig& c);
+// pairs and free faces, computes the metrics and checks the result. With
+// balance_ranks > 1 the blocks are first cut until they share out over that many
+// ranks within 5 % (parallel/partition.hpp), on multigrid-aligned cuts.
+Grid build_grid(const CaseConfig& c, int balance_ranks = 1);
 
 }  // namespace narwhal

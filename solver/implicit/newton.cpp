@@ -9,6 +9,8 @@
 #include "mesh/ghost_sweep.hpp"
 #include "physics/ac_flux.hpp"
 #include "physics/residual.hpp"
+#include "parallel/communicator.hpp"
+#include "parallel/reduction.hpp"
 
 namespace narwhal {
 
@@ -65,6 +67,7 @@ NewtonSolver::NewtonSolver(Grid& g, FlowField& f, const FlowParams& fp, NewtonSe
   AL_.resize(nb);
   AR_.resize(nb);
   for (std::size_t ib = 0; ib < nb; ++ib) {
+    if (!g.owns(ib)) continue;  // other ranks' blocks: no storage
     const Block& b = g.blocks[ib];
     R_[ib].resize(b.ni, b.nj, b.nk, 0);
     dQ_[ib].resize(b.ni, b.nj, b.nk, kGhost, State::Zero());
@@ -79,18 +82,23 @@ NewtonSolver::NewtonSolver(Grid& g, FlowField& f, const FlowParams& fp, NewtonSe
 }
 
 IterationNorms NewtonSolver::norms() const {
-  IterationNorms n;
-  std::size_t cells = 0;
+  // Per-block sums of squares and cell counts, added in block order on every rank.
+  constexpr int width = kNumEq + 1;
+  std::vector<Real> partial(g_.blocks.size() * width, 0.0);
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    if (!g_.owns(ib)) continue;
     const Block& b = g_.blocks[ib];
+    Real* s = &partial[ib * width];
     for_each_cell(b, [&](int i, int j, int k) {
       const State r = R_[ib](i, j, k) / b.vol(i, j, k);
-      for (int m = 0; m < kNumEq; ++m) n.l2[m] += r[m] * r[m];
+      for (int m = 0; m < kNumEq; ++m) s[m] += r[m] * r[m];
     });
-    cells += b.cells();
+    s[kNumEq] = static_cast<Real>(b.cells());
   }
+  const std::vector<Real> total = sum_in_block_order(g_, std::move(partial), width);
+  IterationNorms n;
   for (int m = 0; m < kNumEq; ++m) {
-    n.l2[m] = std::sqrt(n.l2[m] / static_cast<Real>(cells));
+    n.l2[m] = std::sqrt(total[m] / total[kNumEq]);
     n.total += n.l2[m] * n.l2[m];
   }
   n.total = std::sqrt(n.total);
@@ -99,28 +107,39 @@ IterationNorms NewtonSolver::norms() const {
 
 void NewtonSolver::check_finite() const {
   // States first: a non-finite state is the cause, non-finite residuals of its
-  // neighbours the consequence.
-  for (int pass = 0; pass < 2; ++pass)
-    for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+  // neighbours the consequence. Every rank learns the first failure (lowest rank).
+  std::string what;
+  for (int pass = 0; pass < 2 && what.empty(); ++pass)
+    for (std::size_t ib = 0; ib < g_.blocks.size() && what.empty(); ++ib) {
+      if (!g_.owns(ib)) continue;
       const Block& b = g_.blocks[ib];
       const auto& field = pass == 0 ? f_.Q[ib] : R_[ib];
       for_each_cell(b, [&](int i, int j, int k) {
-        for (int m = 0; m < kNumEq; ++m) {
+        for (int m = 0; m < kNumEq && what.empty(); ++m) {
           if (std::isfinite(field(i, j, k)[m])) continue;
-          throw DivergenceError(
-              pass == 0 ? fmt::format("non-finite {} in block '{}' cell ({}, {}, {})", kEquationNames[m], b.name, i,
-                                      j, k)
-                        : fmt::format("non-finite residual of the {} equation in block '{}' cell ({}, {}, {})",
-                                      kEquationNames[m], b.name, i, j, k));
+          what = pass == 0 ? fmt::format("non-finite {} in block '{}' cell ({}, {}, {})", kEquationNames[m], b.name, i,
+                                         j, k)
+                           : fmt::format("non-finite residual of the {} equation in block '{}' cell ({}, {}, {})",
+                                         kEquationNames[m], b.name, i, j, k);
         }
       });
     }
+  if (g_.owner.empty()) {
+    if (!what.empty()) throw DivergenceError(what);
+    return;
+  }
+  const Communicator comm = Communicator::world();
+  const int first = static_cast<int>(comm.min(what.empty() ? comm.size() : comm.rank()));
+  if (first == comm.size()) return;
+  comm.broadcast(what, first);
+  throw DivergenceError(what);
 }
 
 std::string NewtonSolver::describe_largest_residual() const {
   Real worst = -1.0;
   std::string where;
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    if (!g_.owns(ib)) continue;
     const Block& b = g_.blocks[ib];
     for_each_cell(b, [&](int i, int j, int k) {
       for (int m = 0; m < kNumEq; ++m) {
@@ -132,6 +151,12 @@ std::string NewtonSolver::describe_largest_residual() const {
       }
     });
   }
+  if (g_.owner.empty()) return where;
+  const Communicator comm = Communicator::world();
+  const Real global = comm.max(worst);
+  // The lowest rank holding the largest value tells.
+  const int teller = static_cast<int>(comm.min(worst == global ? comm.rank() : comm.size()));
+  comm.broadcast(where, teller);
   return where;
 }
 
@@ -140,6 +165,7 @@ IterationNorms NewtonSolver::evaluate_residual() {
   compute_residual(g_, f_, fp_, R_);
   if (forcing_)
     for (std::size_t ib = 0; ib < R_.size(); ++ib) {
+      if (!g_.owns(ib)) continue;
       auto& r = R_[ib].raw();
       const auto& fr = (*forcing_)[ib].raw();
       for (std::size_t n = 0; n < r.size(); ++n) r[n] -= fr[n];
@@ -256,7 +282,10 @@ IterationNorms NewtonSolver::iterate() {
 void NewtonSolver::sweeps_only(int pairs) {
   for (int it = 0; it < pairs; ++it)
     for (bool forward : {true, false}) {
-      for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) sweep_block(static_cast<int>(ib), forward);
+      for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib)
+        if (g_.owns(ib)) sweep_block(static_cast<int>(ib), forward);
+      // Block (and rank) coupling is lagged: neighbours' corrections enter through the
+      // ghosts after each half sweep, the same on any number of ranks.
       exchange_interfaces(g_, dQ_);
     }
 }
@@ -269,6 +298,7 @@ IterationNorms NewtonSolver::relax_and_update(IterationNorms n, Real cfl, bool r
   n.cfl = cfl;
   const bool reuse = reuse_jacobian && assembled_ && (cfl == assembled_cfl_ || stale_cfl_ok_);
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    if (!g_.owns(ib)) continue;
     if (!reuse) assemble_block(static_cast<int>(ib), cfl);
     dQ_[ib].fill(State::Zero());
   }
@@ -276,7 +306,8 @@ IterationNorms NewtonSolver::relax_and_update(IterationNorms n, Real cfl, bool r
   assembled_cfl_ = cfl;
   sweeps_only(s_.sgs_iterations);
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib)
-    for_each_cell(g_.blocks[ib], [&](int i, int j, int k) { f_.Q[ib](i, j, k) += s_.relaxation * dQ_[ib](i, j, k); });
+    if (g_.owns(ib))
+      for_each_cell(g_.blocks[ib], [&](int i, int j, int k) { f_.Q[ib](i, j, k) += s_.relaxation * dQ_[ib](i, j, k); });
   return n;
 }
 

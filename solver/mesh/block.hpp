@@ -2,6 +2,7 @@
 // Structured block: nodes with two ghost layers, per-face-direction metrics
 // (area vectors, face speeds), cell volumes and centres (NUMERICS §2), and the
 // boundary patches that tile its six faces.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,11 @@ struct Block {
   // by mark_planar_blocks (physics/planar.hpp); the solver then skips those
   // faces, whose fluxes cancel exactly.
   int planar_dir = -1;
+  // A piece cut by the load balancer (parallel/partition.hpp) remembers the block it
+  // came from and where it starts there: files are written in the uncut layout, so
+  // that a run on any number of ranks reads and writes the same files.
+  std::string parent;           // empty: not a piece
+  Index3 parent_offset{0, 0, 0};
 
   Block() = default;
   Block(std::string block_name, int ci, int cj, int ck);
@@ -79,10 +85,22 @@ struct Interface {
   Index3 map_cell(const Index3& c) const;
 };
 
+struct HaloPlans;  // parallel/halo.hpp
+
 struct Grid {
   std::vector<Block> blocks;
   std::vector<Interface> interfaces;
+  // Distribution over MPI ranks (parallel/distribution.hpp): the rank owning each
+  // block and this process's rank. Empty: every block is this process's. Solver
+  // loops skip blocks they do not own; geometry is kept for every block.
+  std::vector<int> owner;
+  int rank = 0;
+  // The halo exchange plans (parallel/halo.hpp), built on first use for this layout.
+  mutable std::shared_ptr<const HaloPlans> halo;
+
   std::size_t cells() const;
+  bool owns(int ib) const { return owner.empty() || owner[static_cast<std::size_t>(ib)] == rank; }
+  bool owns(std::size_t ib) const { return owns(static_cast<int>(ib)); }
 };
 
 // Index unit vector of direction d.

@@ -19,6 +19,7 @@ int assign_bc(Grid& g, const std::string& label, const PatchBc& bc) {
 }
 
 void finalize_grid(Grid& g) {
+  g.halo.reset();
   connect_free_faces(g);
   check_patch_cover(g);
   for (const auto& b : g.blocks)

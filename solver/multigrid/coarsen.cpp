@@ -39,6 +39,8 @@ Grid coarsen(const Grid& g) {
   const std::string why = why_not_coarsenable(g);
   if (!why.empty()) fail("cannot coarsen the grid: {}", why);
   Grid h;
+  h.owner = g.owner;  // a coarse block lives where its fine block does
+  h.rank = g.rank;
   for (const Block& b : g.blocks) {
     const Index3 c = coarsening_factors(b);
     Block cb(b.name, b.ni / c[0], b.nj / c[1], b.nk / c[2]);

@@ -4,24 +4,17 @@
 #include "core/error.hpp"
 #include "mesh/ghost_sweep.hpp"
 #include "multigrid/coarsen.hpp"
+#include "parallel/halo.hpp"
 
 namespace narwhal {
 namespace {
 
 // Ghosts of a coarse-grid correction (§7.3): homogeneous version of each BC.
 void fill_correction_ghosts(Grid& g, std::vector<GhostArray<State>>& dq) {
-  ghost_sweep(g, [&](int ib, const Patch& p, int m) {
+  auto physical = [&](int ib, const Patch& p, int m) {
     const Block& b = g.blocks[ib];
     auto& D = dq[ib];
     const PatchRange r = extended_cell_range(b, p);
-    if (p.type == BcType::Interface) {
-      const Interface& itf = g.interfaces[p.interface];
-      for_each_in(r, [&](Index3 c) {
-        const Index3 gc = ghost_cell(b, p.side, c, m);
-        D(gc) = donor_state(itf, dq[itf.donor], gc);
-      });
-      return;
-    }
     for_each_in(r, [&](Index3 c) {
       const Vec3 n = outward_face(b, p.side, c).S.normalized();
       State q = D(interior_cell(b, p.side, c, m));
@@ -33,7 +26,8 @@ void fill_correction_ghosts(Grid& g, std::vector<GhostArray<State>>& dq) {
       }
       D(ghost_cell(b, p.side, c, m)) = q;
     });
-  });
+  };
+  owned_ghost_sweep(g, physical, [&](const ExchangePlan& plan) { exchange(g, plan, dq, RotateVelocity{}); });
 }
 
 }  // namespace
@@ -66,10 +60,15 @@ Multigrid::Multigrid(Grid& fine, FlowField& field, const FlowParams& fp, const N
   }
   for (auto& l : levels_) {
     l.solver = std::make_unique<NewtonSolver>(*l.grid, *l.field, l.fp, ns);
-    for (const Block& b : l.grid->blocks) {
-      l.forcing.emplace_back(b.ni, b.nj, b.nk, 0, State::Zero());
-      l.q0.emplace_back(b.ni, b.nj, b.nk, 0, State::Zero());
-      l.correction.emplace_back(b.ni, b.nj, b.nk, kGhost, State::Zero());
+    l.forcing.resize(l.grid->blocks.size());
+    l.q0.resize(l.grid->blocks.size());
+    l.correction.resize(l.grid->blocks.size());
+    for (std::size_t ib = 0; ib < l.grid->blocks.size(); ++ib) {
+      if (!l.grid->owns(ib)) continue;  // other ranks' blocks: no storage
+      const Block& b = l.grid->blocks[ib];
+      l.forcing[ib].resize(b.ni, b.nj, b.nk, 0, State::Zero());
+      l.q0[ib].resize(b.ni, b.nj, b.nk, 0, State::Zero());
+      l.correction[ib].resize(b.ni, b.nj, b.nk, kGhost, State::Zero());
     }
   }
   for (std::size_t l = 1; l < levels_.size(); ++l) levels_[l].solver->set_forcing(&levels_[l].forcing);
@@ -92,6 +91,7 @@ void Multigrid::restrict_to(int l) {
   fine.solver->evaluate_residual();  // R_h(Q_h) - f_h at the smoothed state
   const auto& rh = fine.solver->residual();
   for (std::size_t ib = 0; ib < coarse.grid->blocks.size(); ++ib) {
+    if (!coarse.grid->owns(ib)) continue;
     const Block& bh = fine.grid->blocks[ib];
     const Block& bH = coarse.grid->blocks[ib];
     const Index3 c = coarsening_factors(bh);
@@ -121,6 +121,7 @@ void Multigrid::restrict_to(int l) {
   coarse.solver->evaluate_residual();
   const auto& RH = coarse.solver->residual();
   for (std::size_t ib = 0; ib < coarse.grid->blocks.size(); ++ib) {
+    if (!coarse.grid->owns(ib)) continue;
     auto& f = coarse.forcing[ib].raw();
     const auto& r = RH[ib].raw();
     for (std::size_t n = 0; n < f.size(); ++n) f[n] += r[n];
@@ -132,6 +133,7 @@ void Multigrid::prolong_from(int l) {
   Level& fine = levels_[l - 1];
   Level& coarse = levels_[l];
   for (std::size_t ib = 0; ib < coarse.grid->blocks.size(); ++ib) {
+    if (!coarse.grid->owns(ib)) continue;
     const Block& bH = coarse.grid->blocks[ib];
     for_each_cell(bH, [&](int I, int J, int K) {
       coarse.correction[ib](I, J, K) = coarse.field->Q[ib](I, J, K) - coarse.q0[ib](I, J, K);
@@ -139,6 +141,7 @@ void Multigrid::prolong_from(int l) {
   }
   fill_correction_ghosts(*coarse.grid, coarse.correction);
   for (std::size_t ib = 0; ib < fine.grid->blocks.size(); ++ib) {
+    if (!fine.grid->owns(ib)) continue;
     const Block& bh = fine.grid->blocks[ib];
     const Index3 c = coarsening_factors(bh);
     const auto& D = coarse.correction[ib];

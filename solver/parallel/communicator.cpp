@@ -1,5 +1,10 @@
 #include "parallel/communicator.hpp"
 
+#include <algorithm>
+#include <cstdlib>
+
+#include "core/error.hpp"
+
 #ifdef NARWHAL_HAVE_MPI
 #include <mpi.h>
 #endif
@@ -58,8 +63,37 @@ void Communicator::broadcast(std::vector<Real>& v, int root) const {
   if (n > 0) MPI_Bcast(v.data(), static_cast<int>(n), MPI_DOUBLE, root, MPI_COMM_WORLD);
 }
 
+void Communicator::broadcast(std::string& s, int root) const {
+  if (size_ == 1) return;
+  long long n = static_cast<long long>(s.size());
+  MPI_Bcast(&n, 1, MPI_LONG_LONG, root, MPI_COMM_WORLD);
+  s.resize(static_cast<std::size_t>(n));
+  if (n > 0) MPI_Bcast(s.data(), static_cast<int>(n), MPI_CHAR, root, MPI_COMM_WORLD);
+}
+
+// Large messages go in pieces below INT_MAX bytes (MPI counts are int).
+void Communicator::send(const void* data, std::size_t bytes, int to, int tag) const {
+  constexpr std::size_t chunk = std::size_t{1} << 30;
+  const char* p = static_cast<const char*>(data);
+  for (std::size_t done = 0; done < bytes; done += chunk)
+    MPI_Send(p + done, static_cast<int>(std::min(chunk, bytes - done)), MPI_BYTE, to, tag, MPI_COMM_WORLD);
+}
+
+void Communicator::receive(void* data, std::size_t bytes, int from, int tag) const {
+  constexpr std::size_t chunk = std::size_t{1} << 30;
+  char* p = static_cast<char*>(data);
+  for (std::size_t done = 0; done < bytes; done += chunk)
+    MPI_Recv(p + done, static_cast<int>(std::min(chunk, bytes - done)), MPI_BYTE, from, tag, MPI_COMM_WORLD,
+             MPI_STATUS_IGNORE);
+}
+
 void Communicator::barrier() const {
   if (size_ > 1) MPI_Barrier(MPI_COMM_WORLD);
+}
+
+void Communicator::abort(int code) const {
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::exit(code);
 }
 
 #else  // one rank, no MPI
@@ -74,7 +108,11 @@ Real Communicator::min(Real x) const { return x; }
 long long Communicator::sum(long long x) const { return x; }
 void Communicator::sum(std::vector<Real>&) const {}
 void Communicator::broadcast(std::vector<Real>&, int) const {}
+void Communicator::broadcast(std::string&, int) const {}
+void Communicator::send(const void*, std::size_t, int to, int) const { fail("send to rank {} without MPI", to); }
+void Communicator::receive(void*, std::size_t, int from, int) const { fail("receive from rank {} without MPI", from); }
 void Communicator::barrier() const {}
+void Communicator::abort(int code) const { std::exit(code); }
 
 #endif
 

@@ -11,6 +11,8 @@
 //   }
 // Reductions are deterministic for a given rank count (MPI_Allreduce's order is fixed
 // per communicator size in OpenMPI's default algorithms; vectors reduce element-wise).
+#include <cstddef>
+#include <string>
 #include <vector>
 
 #include "core/types.hpp"
@@ -40,7 +42,12 @@ class Communicator {
   long long sum(long long x) const;
   void sum(std::vector<Real>& v) const;  // element-wise, in place
   void broadcast(std::vector<Real>& v, int root = 0) const;
+  void broadcast(std::string& s, int root = 0) const;
+  // Point to point, blocking (gathers to the writing rank); `bytes` must match.
+  void send(const void* data, std::size_t bytes, int to, int tag) const;
+  void receive(void* data, std::size_t bytes, int from, int tag) const;
   void barrier() const;
+  [[noreturn]] void abort(int code) const;  // ends every rank of the job
 
  private:
   Communicator();

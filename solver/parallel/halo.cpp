@@ -7,7 +7,6 @@
 #endif
 
 #include "core/error.hpp"
-#include "mesh/ghost_sweep.hpp"
 
 namespace narwhal {
 
@@ -18,9 +17,16 @@ std::size_t ExchangePlan::sent_cells() const {
   return n;
 }
 
+std::size_t ExchangePlan::messages() const {
+  std::size_t n = 0;
+  for (const HaloPeer& p : peers) n += p.rank != rank && !p.send.empty();
+  return n;
+}
 
-ExchangePlan build_exchange_plan(const Grid& g, const std::vector<int>& owner, int rank) {
-  if (owner.size() != g.blocks.size()) fail("exchange plan: {} owners for {} blocks", owner.size(), g.blocks.size());
+ExchangePlan build_exchange_plan(const Grid& g, const std::vector<int>& owner, int rank, GhostSelection sel) {
+  if (!owner.empty() && owner.size() != g.blocks.size())
+    fail("exchange plan: {} owners for {} blocks", owner.size(), g.blocks.size());
+  auto owner_of = [&](int ib) { return owner.empty() ? rank : owner[static_cast<std::size_t>(ib)]; };
   ExchangePlan plan;
   plan.rank = rank;
   std::map<int, HaloPeer> peers;
@@ -28,41 +34,58 @@ ExchangePlan build_exchange_plan(const Grid& g, const std::vector<int>& owner, i
   // mine that other ranks' (or my) ghosts need, in the receiver's order: the loop
   // over receiving blocks is the same on both ends.
   for (int ib = 0; ib < static_cast<int>(g.blocks.size()); ++ib) {
-    for_each_interface_ghost(g, ib, [&](int itf, const Index3& gc, int donor, const Index3& dc) {
-      if (owner[ib] == rank) {
-        HaloPeer& p = peers[owner[donor]];
-        p.rank = owner[donor];
-        p.receive.push_back({ib, gc, itf});
-      }
-      if (owner[donor] == rank) {
-        HaloPeer& p = peers[owner[ib]];
-        p.rank = owner[ib];
-        p.send.push_back({donor, dc, itf});
-      }
-    });
+    for_each_interface_ghost(
+        g, ib,
+        [&](int itf, const Index3& gc, int donor, const Index3& dc) {
+          if (owner_of(ib) == rank) {
+            HaloPeer& p = peers[owner_of(donor)];
+            p.rank = owner_of(donor);
+            p.receive.push_back({ib, gc, itf});
+          }
+          if (owner_of(donor) == rank) {
+            HaloPeer& p = peers[owner_of(ib)];
+            p.rank = owner_of(ib);
+            p.send.push_back({donor, dc, itf});
+          }
+        },
+        sel);
   }
   for (auto& [r, p] : peers) plan.peers.push_back(std::move(p));
   return plan;
 }
 
-void exchange_halo(const Grid& g, const ExchangePlan& plan, std::vector<GhostArray<State>>& Q) {
-  std::vector<std::vector<State>> out(plan.peers.size()), in(plan.peers.size());
-  for (std::size_t k = 0; k < plan.peers.size(); ++k) {
-    const HaloPeer& p = plan.peers[k];
-    out[k].reserve(p.send.size());
-    for (const HaloCell& c : p.send) out[k].push_back(Q[c.block](c.cell));
-    in[k].resize(p.receive.size());
-  }
+const HaloPlans& halo_plans(const Grid& g) {
+  const HaloPlans* h = g.halo.get();
+  if (h && h->blocks == g.blocks.size() && h->interfaces == g.interfaces.size() && h->owner == g.owner &&
+      h->rank == g.rank)
+    return *h;
+  auto plans = std::make_shared<HaloPlans>();
+  for (int d = 0; d < 3; ++d)
+    for (int m = 1; m <= kGhost; ++m)
+      plans->sweep[static_cast<std::size_t>(d * kGhost + m - 1)] =
+          build_exchange_plan(g, g.owner, g.rank, GhostSelection{d, m, true});
+  plans->faces = build_exchange_plan(g, g.owner, g.rank, GhostSelection{-1, 1, false});
+  plans->blocks = g.blocks.size();
+  plans->interfaces = g.interfaces.size();
+  plans->owner = g.owner;
+  plans->rank = g.rank;
+  g.halo = plans;
+  return *plans;
+}
+
+void transfer(const ExchangePlan& plan, std::vector<std::vector<double>>& out, std::vector<std::vector<double>>& in) {
 #ifdef NARWHAL_HAVE_MPI
   std::vector<MPI_Request> requests;
   constexpr int tag = 4711;
   for (std::size_t k = 0; k < plan.peers.size(); ++k) {
     const HaloPeer& p = plan.peers[k];
     if (p.rank == plan.rank) continue;
-    const int n = static_cast<int>(4 * p.receive.size());
-    if (n > 0) MPI_Irecv(in[k].data()->data(), n, MPI_DOUBLE, p.rank, tag, MPI_COMM_WORLD, &requests.emplace_back());
-    const int s = static_cast<int>(4 * p.send.size());
-    if (s > 0) MPI_Isend(out[k].data()->data(), s, MPI_DOUBLE, p.rank, tag, MPI_COMM_WORLD, &requests.emplace_back());
+    if (!in[k].empty())
+      MPI_Irecv(in[k].data(), static_cast<int>(in[k].size()), MPI_DOUBLE, p.rank, tag, MPI_COMM_WORLD,
+                &requests.emplace_back());
+    if (!out[k].empty())
+      MPI_Isend(out[k].data(), static_cast<int>(out[k].size()), MPI_DOUBLE, p.rank, tag, MPI_COMM_WORLD,
+                &requests.emplace_back());
   }
 #endif
   for (std::size_t k = 0; k < plan.peers.size(); ++k)
@@ -73,15 +96,10 @@ void exchange_halo(const Grid& g, const ExchangePlan& plan, std::vector<GhostArr
   for (const HaloPeer& p : plan.peers)
     if (p.rank != plan.rank) fail("halo exchange with rank {} in a build without MPI", p.rank);
 #endif
-  for (std::size_t k = 0; k < plan.peers.size(); ++k) {
-    const HaloPeer& p = plan.peers[k];
-    for (std::size_t i = 0; i < p.receive.size(); ++i) {
-      const HaloCell& c = p.receive[i];
-      State q = in[k][i];
-      q.tail<3>() = g.interfaces[c.interface].R * q.tail<3>();
-      Q[c.block](c.cell) = q;
-    }
-  }
+}
+
+void exchange_halo(const Grid& g, const ExchangePlan& plan, std::vector<GhostArray<State>>& Q) {
+  exchange(g, plan, Q, RotateVelocity{});
 }
 
 }  // namespace narwhal

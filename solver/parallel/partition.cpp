@@ -155,8 +155,13 @@ Grid tensor_split(const Grid& g, const std::vector<Index3>& parts, int stride) {
     for (int pk = 0; pk < parts[ib][2]; ++pk)
       for (int pj = 0; pj < parts[ib][1]; ++pj)
         for (int pi = 0; pi < parts[ib][0]; ++pi)
-          out.blocks.push_back(extract_block(b, fmt::format("{}_p{}_{}_{}", b.name, pi, pj, pk),
-                                             {c[0][pi], c[1][pj], c[2][pk]}, {c[0][pi + 1], c[1][pj + 1], c[2][pk + 1]}));
+        {
+          Block piece = extract_block(b, fmt::format("{}_p{}_{}_{}", b.name, pi, pj, pk), {c[0][pi], c[1][pj], c[2][pk]},
+                                      {c[0][pi + 1], c[1][pj + 1], c[2][pk + 1]});
+          piece.parent = b.parent.empty() ? b.name : b.parent;
+          piece.parent_offset = add(b.parent_offset, Index3{c[0][pi], c[1][pj], c[2][pk]});
+          out.blocks.push_back(std::move(piece));
+        }
   }
   return out;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "parallel/reduction.hpp"
 
 namespace narwhal {
 
@@ -18,21 +19,22 @@ std::function<Vec3(const Vec3&)> FlowRateControl::source() const {
 }
 
 Real FlowRateControl::bulk_velocity(const Grid& g, const FlowField& f) const {
-  Real flux = 0.0;
+  std::vector<Real> flux(g.blocks.size(), 0.0);  // per block, added in block order
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
     const Block& b = g.blocks[ib];
-    for_each_cell(b, [&](int i, int j, int k) { flux += b.vol(i, j, k) * e_.dot(f.Q[ib](i, j, k).tail<3>()); });
+    for_each_cell(b, [&](int i, int j, int k) { flux[ib] += b.vol(i, j, k) * e_.dot(f.Q[ib](i, j, k).tail<3>()); });
   }
-  return flux / volume_;
+  return sum_in_block_order(g, std::move(flux), 1)[0] / volume_;
 }
 
 void FlowRateControl::update(const Grid& g, const FlowField& f,
                              const std::map<std::string, std::vector<WallFace>>& walls) {
   // Force of the fluid on the walls along e: shear cf/2 (U_ref = 1) and pressure
   // -p n = -cp/2 n (n into the fluid).
+  // (A_ref = 2 makes the coefficients the forces themselves.)
   Real Fw = 0.0;
-  for (const auto& [name, faces] : walls)
-    for (const WallFace& w : faces) Fw += 0.5 * w.area * e_.dot(w.cf - w.cp * w.n);
+  for (const auto& [name, c] : integrate_forces(g, walls, 2.0, 1.0, Vec3::Zero())) Fw += e_.dot(c.force);
   const Real ub = bulk_velocity(g, f);
   if (!(ub > 0.0)) return;  // the flow runs backwards or is not finite: keep the force
   const Real balance = Fw / volume_ * (target_ / ub) * (target_ / ub);

@@ -117,6 +117,7 @@ State boundary_face_flux(const Block& b, const Patch& p, const GhostArray<State>
 void compute_residual(const Grid& g, const FlowField& fl, const FlowParams& fp, std::vector<GhostArray<State>>& R) {
   R.resize(g.blocks.size());
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
     const Block& b = g.blocks[ib];
     const auto& Q = fl.Q[ib];
     const auto& nu = fl.nu[ib];

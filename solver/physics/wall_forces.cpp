@@ -4,6 +4,7 @@
 
 #include "mesh/ghost_sweep.hpp"
 #include "physics/residual.hpp"
+#include "parallel/reduction.hpp"
 
 namespace narwhal {
 
@@ -20,7 +21,8 @@ void wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp,
     const Block& b = g.blocks[ib];
     for (const Patch& p : b.patches) {
       if (p.type != BcType::Wall) continue;
-      auto& list = out[p.label];
+      auto& list = out[p.label];  // every rank knows every group, faces or not
+      if (!g.owns(ib)) continue;
       const int d = side_dir(p.side);
       const PatchRange r = face_range(p);
       for_each_in(r, [&](Index3 c) {
@@ -55,6 +57,54 @@ ForceCoefficients integrate_forces(const std::vector<WallFace>& faces, Real area
   c.force *= 2.0 / area_ref;
   c.moment *= 2.0 / (area_ref * length_ref);
   return c;
+}
+
+std::map<std::string, ForceCoefficients> integrate_forces(const Grid& g,
+                                                          const std::map<std::string, std::vector<WallFace>>& faces,
+                                                          Real area_ref, Real length_ref, const Vec3& centre) {
+  // Per (group, block) partial forces, added in block order on every rank: the same
+  // sums for any distribution of the blocks. The face lists hold the owned blocks'
+  // faces in block order; walk them alongside the patches.
+  constexpr int width = 6;
+  const std::size_t groups = faces.size();
+  std::vector<Real> partial(g.blocks.size() * groups * width, 0.0);
+  std::size_t gi = 0;
+  for (const auto& [name, list] : faces) {
+    std::size_t next = 0;
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      if (!g.owns(ib)) continue;
+      const Block& b = g.blocks[ib];
+      std::size_t n = 0;
+      for (const Patch& p : b.patches)
+        if (p.type == BcType::Wall && p.label == name) {
+          const PatchRange r = face_range(p);
+          n += static_cast<std::size_t>(r.hi[0] - r.lo[0]) * (r.hi[1] - r.lo[1]) * (r.hi[2] - r.lo[2]);
+        }
+      const std::vector<WallFace> mine(list.begin() + static_cast<std::ptrdiff_t>(next),
+                                       list.begin() + static_cast<std::ptrdiff_t>(next + n));
+      next += n;
+      const ForceCoefficients c = integrate_forces(mine, area_ref, length_ref, centre);
+      Real* s = &partial[(ib * groups + gi) * width];
+      for (int m = 0; m < 3; ++m) {
+        s[m] = c.force[m];
+        s[3 + m] = c.moment[m];
+      }
+    }
+    ++gi;
+  }
+  // Totals per group: sum_in_block_order over blocks of width groups*6.
+  const std::vector<Real> total = sum_in_block_order(g, std::move(partial), static_cast<int>(groups * width));
+  std::map<std::string, ForceCoefficients> out;
+  gi = 0;
+  for (const auto& [name, list] : faces) {
+    ForceCoefficients& c = out[name];
+    for (int m = 0; m < 3; ++m) {
+      c.force[m] = total[gi * width + static_cast<std::size_t>(m)];
+      c.moment[m] = total[gi * width + 3 + static_cast<std::size_t>(m)];
+    }
+    ++gi;
+  }
+  return out;
 }
 
 }  // namespace narwhal

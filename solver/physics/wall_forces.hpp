@@ -29,4 +29,10 @@ void wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp,
 ForceCoefficients integrate_forces(const std::vector<WallFace>& faces, Real area_ref, Real length_ref,
                                    const Vec3& moment_centre);
 
+// Every group's coefficients over all ranks (faces of the owned blocks, from
+// wall_faces), summed block by block in block order: the same on any rank count.
+std::map<std::string, ForceCoefficients> integrate_forces(const Grid& g,
+                                                          const std::map<std::string, std::vector<WallFace>>& faces,
+                                                          Real area_ref, Real length_ref, const Vec3& moment_centre);
+
 }  // namespace narwhal

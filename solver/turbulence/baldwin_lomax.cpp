@@ -22,6 +22,9 @@ void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParam
   nut_.resize(g.blocks.size());
   ywall_.resize(g.blocks.size());
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    // The search runs along grid lines inside the block; the balancer keeps lines
+    // normal to walls uncut when this model runs (parallel/partition.hpp).
+    if (!g.owns(ib)) continue;
     const Block& b = g.blocks[ib];
     const auto& Q = f.Q[ib];
     auto& nut = nut_[ib];

@@ -5,6 +5,9 @@
 
 #include "bc/boundary.hpp"
 #include "mesh/ghost_sweep.hpp"
+#include "parallel/communicator.hpp"
+#include "parallel/halo.hpp"
+#include "parallel/reduction.hpp"
 #include "physics/residual.hpp"
 #include "turbulence/flow_gradients.hpp"
 
@@ -25,8 +28,16 @@ Real interior_volume_flux(const Block& b, const GhostArray<State>& Q, int d, con
 }  // namespace
 
 TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) : settings_(s), wall_(compute_wall_distance(g)) {
-  for (const Block& b : g.blocks) {
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    const Block& b = g.blocks[ib];
     Work w;
+    aux_.emplace_back();
+    grad_u_.emplace_back();
+    if (!g.owns(ib)) {  // other ranks' blocks: no storage
+      work_.push_back(std::move(w));
+      continue;
+    }
+    aux_.back().resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
     for (int d = 0; d < 3; ++d) {
       Index3 n = b.dims();
       n[d] += 1;
@@ -37,7 +48,6 @@ TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) : set
     w.R.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.D.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.dphi.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
-    w.aux.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
     w.lam.resize(b.ni, b.nj, b.nk, 0, 0.0);
     w.flow.resize(b.ni, b.nj, b.nk, 0, CellFlow{});
     work_.push_back(std::move(w));
@@ -55,19 +65,10 @@ void TransportModel::initialize(const Grid& g, FlowField& f, const FlowParams& f
 void TransportModel::fill_scalar_ghosts(Grid& g, FlowField& f, const FlowParams& fp) const {
   const Real nu = 1.0 / fp.reynolds;
   const TurbState inf = freestream(nu);
-  ghost_sweep(g, [&](int ib, const Patch& p, int m) {
+  auto physical = [&](int ib, const Patch& p, int m) {
     const Block& b = g.blocks[ib];
     auto& T = f.turb[ib];
     const PatchRange r = extended_cell_range(b, p);
-    if (p.type == BcType::Interface) {
-      const Interface& itf = g.interfaces[p.interface];
-      const auto& TD = f.turb[itf.donor];
-      for_each_in(r, [&](Index3 c) {
-        const Index3 gc = ghost_cell(b, p.side, c, m);
-        T(gc) = TD(itf.map_cell(gc));
-      });
-      return;
-    }
     for_each_in(r, [&](Index3 c) {
       const Index3 gc = ghost_cell(b, p.side, c, m);
       const TurbState& tm = T(interior_cell(b, p.side, c, m));
@@ -82,29 +83,28 @@ void TransportModel::fill_scalar_ghosts(Grid& g, FlowField& f, const FlowParams&
         default: T(gc) = inf; break;
       }
     });
-  });
+  };
+  owned_ghost_sweep(g, physical, [&](const ExchangePlan& plan) { exchange(g, plan, f.turb, Unrotated{}); });
 }
 
 namespace {
 // First ghost layer of a per-cell work array: the donor's value across interfaces
 // (tensors rotated by `rotate`), the adjacent interior cell at physical boundaries.
-template <class Array, class Rotate>
-void fill_first_ghost_layer(const Grid& g, Array array_of, Rotate rotate, bool extrapolate_at_walls = false) {
+template <class T, class Rotate>
+void fill_first_ghost_layer(const Grid& g, std::vector<GhostArray<T>>& A, Rotate rotate, bool extrapolate_at_walls = false) {
+  if (!g.interfaces.empty()) exchange(g, halo_plans(g).faces, A, rotate);
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
     const Block& b = g.blocks[ib];
-    auto& A = array_of(ib);
+    auto& Ab = A[ib];
     for (const Patch& p : b.patches) {
-      const PatchRange r = face_range(p);
-      for_each_in(r, [&](Index3 c) {
+      if (p.type == BcType::Interface) continue;
+      for_each_in(face_range(p), [&](Index3 c) {
         const Index3 gc = ghost_cell(b, p.side, c, 1);
-        if (p.type == BcType::Interface) {
-          const Interface& itf = g.interfaces[p.interface];
-          A(gc) = rotate(itf, array_of(static_cast<std::size_t>(itf.donor))(itf.map_cell(gc)));
-        } else if (extrapolate_at_walls && p.type == BcType::Wall && b.dims()[side_dir(p.side)] > 1) {
-          A(gc) = 2.0 * A(interior_cell(b, p.side, c, 1)) - A(interior_cell(b, p.side, c, 2));
-        } else {
-          A(gc) = A(interior_cell(b, p.side, c, 1));
-        }
+        if (extrapolate_at_walls && p.type == BcType::Wall && b.dims()[side_dir(p.side)] > 1)
+          Ab(gc) = 2.0 * Ab(interior_cell(b, p.side, c, 1)) - Ab(interior_cell(b, p.side, c, 2));
+        else
+          Ab(gc) = Ab(interior_cell(b, p.side, c, 1));
       });
     }
   }
@@ -138,7 +138,7 @@ CellFlow TransportModel::cell_flow(const Block& b, int ib, const FlowField& f, c
     const int face = wall_.face[ib](c);
     cf.u_tau = face >= 0 ? u_tau_[static_cast<std::size_t>(face)] : 0.0;
   }
-  const auto& GU = work_[ib].grad_u;
+  const auto& GU = grad_u_[ib];
   if (for_sources && GU.ni() == b.ni && needs_velocity_hessian()) {
     Real h2 = 0.0;
     for (int l = 0; l < 3; ++l) {
@@ -164,6 +164,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
   if (needs_friction_velocity()) compute_friction_velocity(g, f, fp);
   // Volume fluxes of every face, once per call: the mean flow is frozen here.
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
     const Block& b = g.blocks[ib];
     Work& w = work_[ib];
     for (int d = 0; d < 3; ++d) {
@@ -184,13 +185,13 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
   const TurbState inf = freestream(nu);
   if (needs_velocity_hessian()) {
     for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      if (!g.owns(ib)) continue;
       const Block& b = g.blocks[ib];
-      auto& GU = work_[ib].grad_u;
+      auto& GU = grad_u_[ib];
       if (GU.ni() != b.ni) GU.resize(b.ni, b.nj, b.nk, 1, Mat3::Zero());
       for_each_cell(b, [&](int i, int j, int k) { GU(i, j, k) = velocity_gradient(b, f.Q[ib], {i, j, k}); });
     }
-    fill_first_ghost_layer(g, [&](std::size_t ib) -> GhostArray<Mat3>& { return work_[ib].grad_u; },
-                           [](const Interface& itf, const Mat3& G) { return Mat3(itf.R * G * itf.R.transpose()); },
+    fill_first_ghost_layer(g, grad_u_, RotateTensor{},
                            // Linear extrapolation into the wall ghost: a copy of the wall
                            // cell's gradient would halve d2u/dy2 there (E of §8.3 lives at the wall).
                            true);
@@ -198,6 +199,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
   const bool coupled = nv == 2 && coupled_sources();
   if (coupled)  // the 2x2 point blocks, sized on first use (a constructor cannot ask the model)
     for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      if (!g.owns(ib)) continue;
       const Block& b = g.blocks[ib];
       Work& w = work_[ib];
       if (w.Minv.ni() == b.ni) continue;
@@ -208,17 +210,18 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
   for (int it = 0; it < settings_.iterations; ++it) {
     fill_scalar_ghosts(g, f, fp);
     // Auxiliary cell values, and their first ghost layer (donor values across interfaces).
-    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      if (!g.owns(ib)) continue;
       for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
         CellFlow& cf = work_[ib].flow(i, j, k);
         cf = cell_flow(g.blocks[ib], static_cast<int>(ib), f, fp, {i, j, k}, true);
-        work_[ib].aux(i, j, k) = cell_aux(f.turb[ib](i, j, k), cf);
+        aux_[ib](i, j, k) = cell_aux(f.turb[ib](i, j, k), cf);
       });
-    fill_first_ghost_layer(g, [&](std::size_t ib) -> GhostArray<TurbState>& { return work_[ib].aux; },
-                           [](const Interface&, const TurbState& a) { return a; });
-    std::size_t cells = 0;
-    for (int m = 0; m < nv; ++m) norms.l2[m] = 0.0;
+    }
+    fill_first_ghost_layer(g, aux_, Unrotated{});
+    std::vector<Real> partial(3 * g.blocks.size(), 0.0);  // per block: sums of squares, cells
     for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      if (!g.owns(ib)) continue;
       const Block& b = g.blocks[ib];
       Work& w = work_[ib];
       const auto& T = f.turb[ib];
@@ -229,7 +232,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
       lam.fill(0.0);
       // Thin-layer diffusion coefficients Gamma |S|^2 / V_f for the left and right cells.
       auto face_coeff = [&](int d, const Index3& cL, const Index3& cR, const Index3& fi) {
-        FaceDiffusivity fd = face_diffusivity(T(cL), T(cR), nu, w.aux(cL), w.aux(cR));
+        FaceDiffusivity fd = face_diffusivity(T(cL), T(cR), nu, aux_[ib](cL), aux_[ib](cR));
         const Real geo = b.S[d](fi).squaredNorm() / (0.5 * (b.vol(cL) + b.vol(cR)));
         fd.left *= geo;
         fd.right *= geo;
@@ -316,7 +319,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
         w.D(c) += V * implicit + TurbState::Constant(lam(c) / cfl_t);
         for (int m = 0; m < nv; ++m) {
           if (!(w.D(c)[m] > 0.0)) w.D(c)[m] = lam(c) > 0.0 ? lam(c) : 1.0;  // keep the relaxation defined
-          norms.l2[m] += (w.R(c)[m] / V) * (w.R(c)[m] / V);
+          partial[3 * ib + static_cast<std::size_t>(m)] += (w.R(c)[m] / V) * (w.R(c)[m] / V);
         }
         if (nv < 2) {
           w.R(c)[1] = 0.0;
@@ -334,14 +337,17 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
           w.Minv(c) = M.inverse();
         }
       });
-      cells += b.cells();
+      partial[3 * ib + 2] = static_cast<Real>(b.cells());
     }
-    for (int m = 0; m < nv; ++m) norms.l2[m] = std::sqrt(norms.l2[m] / static_cast<Real>(cells));
+    const std::vector<Real> total = sum_in_block_order(g, std::move(partial), 3);
+    for (int m = 0; m < nv; ++m) norms.l2[m] = std::sqrt(total[static_cast<std::size_t>(m)] / total[2]);
     // Symmetric Gauss-Seidel on the scalar blocks.
-    for (auto& w : work_) w.dphi.fill(TurbState::Zero());
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+      if (g.owns(ib)) work_[ib].dphi.fill(TurbState::Zero());
     for (int sweep = 0; sweep < 2 * settings_.sgs_iterations; ++sweep) {
       const bool forward = sweep % 2 == 0;
       for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+        if (!g.owns(ib)) continue;
         const Block& b = g.blocks[ib];
         Work& w = work_[ib];
         auto relax = [&](int i, int j, int k) {
@@ -358,12 +364,14 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
         for_each_cell_ordered(b, forward, relax);
       }
     }
-    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      if (!g.owns(ib)) continue;
       for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
         TurbState& phi = f.turb[ib](i, j, k);
         phi += settings_.relaxation * limit_update(phi, work_[ib].dphi(i, j, k));
         if (nv < 2) phi[1] = 0.0;
       });
+    }
   }
   update_viscosity(g, f, fp);
   return norms;
@@ -380,6 +388,10 @@ void TransportModel::compute_friction_velocity(const Grid& g, const FlowField& f
     for (const Patch& p : b.patches) {
       if (p.type != BcType::Wall) continue;
       for_each_in(face_range(p), [&](Index3 c) {
+        if (!g.owns(ib)) {  // another rank's face: its value arrives in the sum below
+          u_tau_.push_back(0.0);
+          return;
+        }
         Vec3 n;
         const Real d1 = wall_distance(b, p.side, c, &n);
         const Vec3 u1 = f.Q[ib](interior_cell(b, p.side, c, 1)).tail<3>();
@@ -388,6 +400,9 @@ void TransportModel::compute_friction_velocity(const Grid& g, const FlowField& f
       });
     }
   }
+  // Every wall face has one owner: the sum is an exact gather (a cell's nearest wall
+  // face may be on another rank).
+  if (!g.owner.empty()) Communicator::world().sum(u_tau_);
 }
 
 void TransportModel::update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) {
@@ -398,12 +413,14 @@ void TransportModel::update_viscosity(const Grid& g, FlowField& f, const FlowPar
   if (nonlinear && f.tau_nl.size() != g.blocks.size()) {
     f.tau_nl.resize(g.blocks.size());
     for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      if (!g.owns(ib)) continue;  // other ranks' blocks: no storage
       const Block& b = g.blocks[ib];
       f.tau_nl[ib].resize(b.ni, b.nj, b.nk, kGhost);
       f.tau_nl[ib].fill(Mat3::Zero());
     }
   }
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
     const Block& b = g.blocks[ib];
     for_each_cell(b, [&](int i, int j, int k) {
       const CellFlow cf = cell_flow(b, static_cast<int>(ib), f, fp, {i, j, k}, false);

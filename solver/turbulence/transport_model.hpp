@@ -114,14 +114,18 @@ class TransportModel : public TurbulenceModel {
   struct Work {
     std::array<GhostArray<Real>, 3> U;
     std::array<GhostArray<TurbState>, 3> aL, aR;
-    GhostArray<TurbState> R, D, dphi, aux;
+    GhostArray<TurbState> R, D, dphi;
     GhostArray<TurbState> Dx;          // off-diagonal point-block entries (0,1), (1,0) from wall BCs
     GhostArray<Eigen::Matrix2d> Minv;  // inverse 2x2 point blocks (coupled_sources())
     GhostArray<Real> lam;         // spectral radius of the cell's faces (pseudo-time term)
     GhostArray<CellFlow> flow;    // the cells' flow data of the current iteration (aux and sources)
-    GhostArray<Mat3> grad_u;  // cell velocity gradients, one ghost layer (when the model needs the Hessian)
   };
   std::vector<Work> work_;
+  // Per-block arrays with one ghost layer, filled across interfaces by the halo
+  // exchange (hence not in Work): the model's auxiliary cell values, and the cell
+  // velocity gradients (when the model needs the Hessian).
+  std::vector<GhostArray<TurbState>> aux_;
+  std::vector<GhostArray<Mat3>> grad_u_;
 };
 
 }  // namespace narwhal

@@ -1,0 +1,18 @@
+#pragma once
+// Global sums that do not depend on how blocks are shared over ranks (issue #6):
+// every rank sums its own blocks into per-block partials, the partials of all blocks
+// are combined (each entry has one contributor, so the reduction is exact), and every
+// rank adds them up in block order. Residual norms, forces and bulk quantities are
+// then the same bit for bit on 1, 2 or 3 ranks for the same blocks, and so is the
+// iteration path that depends on them (the SER CFL).
+#include <vector>
+
+#include "mesh/block.hpp"
+
+namespace narwhal {
+
+// `partials` holds `width` values per block (block-major; zeros for blocks not owned).
+// Returns the `width` totals.
+std::vector<Real> sum_in_block_order(const Grid& g, std::vector<Real> partials, int width);
+
+}  // namespace narwhal
