@@ -1,4 +1,5 @@
 // narwhal: command-line front end. `narwhal run CASE.toml`, `narwhal check CASE.toml`.
+#include <cstdlib>
 #include <unistd.h>
 
 #include <algorithm>
@@ -68,7 +69,18 @@ int main(int argc, char** argv) {
   narwhal::ParallelSession session(argc, argv);  // MPI_Init / MPI_Finalize in MPI builds
   const narwhal::Communicator comm = narwhal::Communicator::world();
   CLI::App app{"Narwhal: implicit artificial-compressibility RANS solver (McDonald & Whitfield 1997 method)"};
-  app.set_version_flag("--version", fmt::format("narwhal {} ({})", kVersion, kGitSha));
+  app.set_version_flag("--version", fmt::format("narwhal {} ({}, {})", kVersion, kGitSha,
+                                                built_with_mpi() ? "MPI" : "no MPI"));
+  // Started by mpirun on several ranks but built without MPI: every process would run
+  // the whole case alone and write the same files.
+  for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"}) {
+    const char* v = std::getenv(var);
+    if (!built_with_mpi() && v && std::atoi(v) > 1) {
+      fmt::print(stderr, "narwhal: error: started on {} ranks ({}), but this narwhal was built without MPI "
+                         "(configure with -DNARWHAL_MPI=ON)\n", v, var);
+      return 2;
+    }
+  }
   app.require_subcommand(1);
 
   std::string case_path, out_dir = "run", restart;

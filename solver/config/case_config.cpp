@@ -273,7 +273,9 @@ Grid build_grid(const CaseConfig& c, int balance_ranks) {
     }
   }
   if (gc.split != Index3{1, 1, 1} || gc.split_rotate) g = split_blocks(g, gc.split, gc.split_rotate);
-  if (balance_ranks > 1) g = split_for_balance(g, balance_ranks, 0.05, c.solver.multigrid.levels);
+  // Cuts on multiples of 2^(levels - 1) cells of the grid that is run (grid.coarsen
+  // levels below the generated one), so every multigrid level stays valid.
+  if (balance_ranks > 1) g = split_for_balance(g, balance_ranks, 0.05, c.solver.multigrid.levels + gc.coarsen);
   // Every labelled patch needs a BC (or a periodic partner); every BC a patch.
   for (const auto& [label, bc] : c.bcs)
     if (assign_bc(g, label, bc) == 0) fail("{}: [bc.{}] matches no patch of the grid", c.file, label);

@@ -45,6 +45,8 @@ Grid coarsen(const Grid& g) {
     const Index3 c = coarsening_factors(b);
     Block cb(b.name, b.ni / c[0], b.nj / c[1], b.nk / c[2]);
     cb.planar_dir = b.planar_dir;  // a slab stays a slab: the one-cell direction is not coarsened
+    cb.parent = b.parent;
+    for (int d = 0; d < 3; ++d) cb.parent_offset[d] = b.parent_offset[d] / c[d];
     for (int k = 0; k <= cb.nk; ++k)
       for (int j = 0; j <= cb.nj; ++j)
         for (int i = 0; i <= cb.ni; ++i) cb.x(i, j, k) = b.x(c[0] * i, c[1] * j, c[2] * k);

@@ -25,6 +25,7 @@ class Run:
     h: float = 0.0       # representative spacing within the family
     max_iterations: int = 0   # 0: the input's own limit
     restart_from: str = ""    # id of a run whose restart.h5 this run continues
+    ranks: int = 0            # MPI ranks (mpirun); 0: validation/run --ranks (default 1)
 
 
 @dataclass
@@ -136,7 +137,8 @@ def load_rung(path):
                         family=r.get("family", str, "a grid-family name", default=""),
                         h=r.get("h", float, "the representative grid spacing", default=0.0),
                         max_iterations=r.get("max_iterations", int, "an iteration limit", default=0),
-                        restart_from=r.get("restart_from", str, "the id of the run to continue", default="")))
+                        restart_from=r.get("restart_from", str, "the id of the run to continue", default=""),
+                        ranks=r.get("ranks", int, "a number of MPI ranks", default=0)))
         r.finish()
     ids = [x.id for x in runs]
     if len(set(ids)) != len(ids):

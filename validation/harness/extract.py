@@ -302,18 +302,38 @@ def ratio(ctx, spec, run_id):
 
 
 def curve_difference(ctx, spec, run_id):
-    """Largest |a - b| between two curves sampled at the same points (e.g. Cf of two runs)."""
+    """Largest |a - b| between two curves sampled at the same points (e.g. Cf of two runs);
+    with relative = true divided by max |a|."""
     a, b = extract(ctx, _need(spec, "a", "the first curve")), extract(ctx, _need(spec, "b", "the second curve"))
     if not isinstance(a, Curve) or not isinstance(b, Curve):
         raise HarnessError("curve_difference needs two curves")
     if a.x.shape != b.x.shape or np.max(np.abs(a.x - b.x)) > 1e-12 * max(1.0, np.max(np.abs(a.x))):
         raise HarnessError("curve_difference: the curves are not sampled at the same points")
-    return float(np.max(np.abs(a.y - b.y)))
+    d = float(np.max(np.abs(a.y - b.y)))
+    if spec.get("relative", False):
+        d /= max(float(np.max(np.abs(a.y))), 1e-300)
+    return d
+
+
+def final_force_difference(ctx, spec, run_id):
+    """Largest difference between two runs' last history rows over the force and moment
+    columns, relative to the largest |coefficient| of the first run's row (a zero
+    component, such as the side force of a 2-D plate, is not divided by itself)."""
+    a = read_csv(ctx.run_dir(_need(spec, "run_a", "the reference run")) / "history.csv")
+    b = read_csv(ctx.run_dir(_need(spec, "run_b", "the compared run")) / "history.csv")
+    cols = [n for n in a if any(n.endswith(f"_{c}") for c in ("cfx", "cfy", "cfz", "cmx", "cmy", "cmz"))]
+    if not cols:
+        raise HarnessError("final_force_difference: the history has no force columns")
+    missing = [n for n in cols if n not in b]
+    if missing:
+        raise HarnessError(f"final_force_difference: run_b lacks {', '.join(missing)}")
+    scale = max(max(abs(float(a[n][-1])) for n in cols), 1e-300)
+    return max(abs(float(a[n][-1]) - float(b[n][-1])) for n in cols) / scale
 
 
 KINDS = {"cf_vs_retheta": cf_vs_retheta, "surface": surface, "surface_at": surface_at, "wall_units": wall_units, "ratio": ratio, "curve_difference": curve_difference, "run_json": run_json, "history_last": history_last, "field_error": field_error, "boundary_layer": boundary_layer,
          "duct": duct, "duct_flow": duct_flow, "history_difference": history_difference,
-         "history_steadiness": history_steadiness}
+         "history_steadiness": history_steadiness, "final_force_difference": final_force_difference}
 
 
 def extract(ctx, spec):

@@ -163,14 +163,15 @@ def _plot_residuals(rung_dir, res, path):
 def _rung_page(rung_dir, res):
     rows = "".join(
         f"<tr><td>{html.escape(r['id'])}</td><td class='{html.escape(str(r.get('status')))}'>{_fmt(r.get('status'))}</td>"
+        f"<td class=num>{_fmt(r.get('ranks', 1))}</td>"
         f"<td class=num>{_fmt(r.get('iterations'))}</td><td class=num>{_fmt(r.get('wall_seconds'))}</td>"
         f"<td class=num>{_fmt(r.get('cells'))}</td><td class=num>{_fmt(r.get('residual_drop'))}</td>"
-        f"<td><a href='{html.escape(r['log'])}'>log</a></td></tr>" for r in res.get("runs", []))
+        f"<td><a href='{html.escape(r.get('log', ''))}'>log</a></td></tr>" for r in res.get("runs", []))
     body = (f"<p>Status: <span class='{res['status']}'>{res['status'].upper()}</span> — tier {res.get('tier')}, "
             f"{_fmt(res.get('wall_seconds'))} s</p>")
     if res.get("message"):
         body += f"<p>{html.escape(res['message'])}</p>"
-    body += ("<h2>Runs</h2><table><tr><th>run</th><th>status</th><th>iterations</th><th>wall s</th><th>cells</th>"
+    body += ("<h2>Runs</h2><table><tr><th>run</th><th>status</th><th>ranks</th><th>iterations</th><th>wall s</th><th>cells</th>"
              f"<th>residual drop</th><th>log</th></tr>{rows}</table>")
     if _plot_residuals(rung_dir, res, rung_dir / "residuals.png"):
         body += "<img src='residuals.png' alt='residual history'>"

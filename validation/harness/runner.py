@@ -1,6 +1,8 @@
 """Runs one rung: its solver runs (with time-out), then its checks; writes results.json."""
 import json
+import os
 import platform
+import shutil
 import subprocess
 import time
 import tomllib
@@ -50,7 +52,26 @@ def _ordered(runs):
     return out
 
 
-def run_rung(rung, tier, narwhal, out_dir, root):
+def mpi_launcher(ranks):
+    """The command prefix that starts `ranks` MPI processes (nothing for one rank).
+    Oversubscribed: rungs compare 1, 2 and 3 ranks on a 2-core machine."""
+    if ranks <= 1:
+        return []
+    exe = shutil.which("mpirun") or shutil.which("mpiexec")
+    if not exe:
+        raise HarnessError(f"{ranks} ranks asked for, but neither mpirun nor mpiexec is on PATH (apt: openmpi-bin)")
+    return [exe, "-n", str(ranks), "--oversubscribe"]
+
+
+def mpi_environment():
+    env = dict(os.environ)
+    if hasattr(os, "geteuid") and os.geteuid() == 0:  # containers and CI run as root
+        env.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+    return env
+
+
+def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     started = time.monotonic()
@@ -62,7 +83,13 @@ def run_rung(rung, tier, narwhal, out_dir, root):
     for r in runs:
         rd = out_dir / "runs" / r.id
         rd.mkdir(parents=True, exist_ok=True)
-        cmd = [str(narwhal), "run", str(r.input), "--out", str(rd)]
+        n = r.ranks or ranks
+        try:
+            cmd = mpi_launcher(n) + [str(narwhal), "run", str(r.input), "--out", str(rd)]
+        except HarnessError as e:
+            result["runs"].append({"id": r.id, "status": "crashed (no MPI launcher)", "message": str(e), "ranks": n})
+            result["status"] = "crashed"
+            break
         for k, v in r.set.items():
             cmd += ["--set", f"{k}={v}"]
         if r.max_iterations:
@@ -71,10 +98,11 @@ def run_rung(rung, tier, narwhal, out_dir, root):
             src = out_dir / "runs" / r.restart_from / "restart.h5"
             cmd += ["--restart", str(src)]
         remaining = rung.timeout_s - (time.monotonic() - started)
-        info = {"id": r.id, "command": " ".join(cmd), "log": f"runs/{r.id}/narwhal.log"}
+        info = {"id": r.id, "command": " ".join(cmd), "log": f"runs/{r.id}/narwhal.log", "ranks": n}
         try:
             with open(rd / "narwhal.log", "w") as log:
-                proc = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, timeout=max(remaining, 1.0))
+                proc = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, timeout=max(remaining, 1.0),
+                                      env=mpi_environment())
             info["exit_code"] = proc.returncode
             info["status"] = EXIT_MEANING.get(proc.returncode, f"crashed (exit {proc.returncode})")
         except subprocess.TimeoutExpired:
