@@ -152,32 +152,55 @@ void connect_free_faces(Grid& g) {
 
 void connect_periodic(Grid& g, const std::string& label_a, const std::string& label_b, const Mat3& R,
                       const std::optional<Vec3>& t_given) {
+  // Every patch of each label (a face cut into pieces, e.g. by the load balancer,
+  // carries its label on every piece); each must be a whole block face.
   auto find = [&](const std::string& label) {
+    std::vector<std::pair<int, int>> out;
     for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
       for (std::size_t ip = 0; ip < g.blocks[ib].patches.size(); ++ip)
         if (g.blocks[ib].patches[ip].label == label) {
           if (!is_full_face(g.blocks[ib], g.blocks[ib].patches[ip]))
-            fail("periodic boundary '{}' must cover a whole block face", label);
-          return std::pair<int, int>(static_cast<int>(ib), static_cast<int>(ip));
+            fail("periodic boundary '{}' must cover whole block faces (block '{}' side {})", label,
+                 g.blocks[ib].name, side_name(g.blocks[ib].patches[ip].side));
+          out.emplace_back(static_cast<int>(ib), static_cast<int>(ip));
         }
-    fail("periodic boundary: no patch labelled '{}'", label);
+    if (out.empty()) fail("periodic boundary: no patch labelled '{}'", label);
+    return out;
   };
-  auto [ia, pa] = find(label_a);
-  auto [ib, pb] = find(label_b);
-  Patch& PA = g.blocks[ia].patches[pa];
-  Patch& PB = g.blocks[ib].patches[pb];
-  const Vec3 t = t_given ? *t_given : Vec3(face_node_mean(g.blocks[ia], PA) - R * face_node_mean(g.blocks[ib], PB));
-  auto ab = match_faces(g, ia, PA.side, ib, PB.side, R, t);
-  auto ba = match_faces(g, ib, PB.side, ia, PA.side, R.transpose(), -R.transpose() * t);
-  if (!ab || !ba)
-    fail("periodic pair '{}' / '{}': the faces do not match node-to-node under the given transform", label_a,
-         label_b);
-  ab->periodic = ba->periodic = true;
-  PA.type = PB.type = BcType::Interface;
-  PA.interface = static_cast<int>(g.interfaces.size());
-  g.interfaces.push_back(*ab);
-  PB.interface = static_cast<int>(g.interfaces.size());
-  g.interfaces.push_back(*ba);
+  const auto as = find(label_a);
+  const auto bs = find(label_b);
+  if (as.size() != bs.size())
+    fail("periodic pair '{}' / '{}': {} faces against {}", label_a, label_b, as.size(), bs.size());
+  // The translation from the face centres: the pieces pair up one to one, so the means
+  // of their centres map onto each other as the whole faces do.
+  Vec3 ma = Vec3::Zero(), mb = Vec3::Zero();
+  for (const auto& [ib, ip] : as) ma += face_node_mean(g.blocks[ib], g.blocks[ib].patches[ip]);
+  for (const auto& [ib, ip] : bs) mb += face_node_mean(g.blocks[ib], g.blocks[ib].patches[ip]);
+  const Vec3 t = t_given ? *t_given : Vec3((ma - R * mb) / static_cast<Real>(as.size()));
+  std::vector<bool> used(bs.size(), false);
+  for (const auto& [ia, pa] : as) {
+    bool joined = false;
+    for (std::size_t k = 0; k < bs.size() && !joined; ++k) {
+      if (used[k]) continue;
+      const auto [ib, pb] = bs[k];
+      Patch& PA = g.blocks[ia].patches[pa];
+      Patch& PB = g.blocks[ib].patches[pb];
+      auto ab = match_faces(g, ia, PA.side, ib, PB.side, R, t);
+      if (!ab) continue;
+      auto ba = match_faces(g, ib, PB.side, ia, PA.side, R.transpose(), -R.transpose() * t);
+      if (!ba) continue;
+      ab->periodic = ba->periodic = true;
+      PA.type = PB.type = BcType::Interface;
+      PA.interface = static_cast<int>(g.interfaces.size());
+      g.interfaces.push_back(*ab);
+      PB.interface = static_cast<int>(g.interfaces.size());
+      g.interfaces.push_back(*ba);
+      used[k] = joined = true;
+    }
+    if (!joined)
+      fail("periodic pair '{}' / '{}': the faces do not match node-to-node under the given transform", label_a,
+           label_b);
+  }
 }
 
 void check_patch_cover(const Grid& g) {
