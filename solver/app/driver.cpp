@@ -107,9 +107,6 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   // The case's own blocks (the layout of every file), and the blocks the run computes
   // on: cut into pieces until they share out over the ranks (parallel/partition.hpp).
   const int split_for = c.split_for > 0 ? c.split_for : comm.size();
-  if (split_for > 1 && c.turbulence.model == "baldwin-lomax")
-    fail("{}: Baldwin-Lomax searches whole wall-normal grid lines inside a block, which balance cuts would break; "
-         "run it on one rank with parallel.split_for = 1", c.file);
   const bool pieces = split_for > 1;
   Grid g = build_grid(c, split_for);
   Grid whole;

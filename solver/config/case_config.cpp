@@ -275,7 +275,20 @@ Grid build_grid(const CaseConfig& c, int balance_ranks) {
   if (gc.split != Index3{1, 1, 1} || gc.split_rotate) g = split_blocks(g, gc.split, gc.split_rotate);
   // Cuts on multiples of 2^(levels - 1) cells of the grid that is run (grid.coarsen
   // levels below the generated one), so every multigrid level stays valid.
-  if (balance_ranks > 1) g = split_for_balance(g, balance_ranks, 0.05, c.solver.multigrid.levels + gc.coarsen);
+  if (balance_ranks > 1) {
+    // Baldwin-Lomax searches whole grid lines normal to walls inside a block: keep them.
+    std::vector<std::array<bool, 3>> uncut;
+    if (c.turbulence.model == "baldwin-lomax")
+      for (const Block& b : g.blocks) {
+        std::array<bool, 3> keep{false, false, false};
+        for (const Patch& p : b.patches) {
+          const auto bc = c.bcs.find(p.label);
+          if (bc != c.bcs.end() && bc->second.type == BcType::Wall) keep[static_cast<std::size_t>(side_dir(p.side))] = true;
+        }
+        uncut.push_back(keep);
+      }
+    g = split_for_balance(g, balance_ranks, 0.05, c.solver.multigrid.levels + gc.coarsen, 4096, uncut);
+  }
   // Every labelled patch needs a BC (or a periodic partner); every BC a patch.
   for (const auto& [label, bc] : c.bcs)
     if (assign_bc(g, label, bc) == 0) fail("{}: [bc.{}] matches no patch of the grid", c.file, label);

@@ -168,7 +168,10 @@ Grid tensor_split(const Grid& g, const std::vector<Index3>& parts, int stride) {
 
 }  // namespace
 
-Grid split_for_balance(const Grid& g, int ranks, Real tolerance, int multigrid_levels, int max_blocks) {
+Grid split_for_balance(const Grid& g, int ranks, Real tolerance, int multigrid_levels, int max_blocks,
+                       const std::vector<std::array<bool, 3>>& uncut) {
+  if (!uncut.empty() && uncut.size() != g.blocks.size())
+    fail("split_for_balance: {} uncut masks for {} blocks", uncut.size(), g.blocks.size());
   if (!g.interfaces.empty()) fail("split_for_balance works on grids before connectivity (finalize_grid)");
   const int stride = 1 << std::max(0, multigrid_levels - 1);
   std::vector<Index3> parts(g.blocks.size(), Index3{1, 1, 1});
@@ -190,6 +193,7 @@ Grid split_for_balance(const Grid& g, int ranks, Real tolerance, int multigrid_l
     const Block& b = g.blocks[ib];
     int d = -1;
     for (int t = 0; t < 3; ++t) {
+      if (!uncut.empty() && uncut[static_cast<std::size_t>(ib)][static_cast<std::size_t>(t)]) continue;
       if (cuts_of(b.n(t), parts[ib][t] + 1, stride).empty()) continue;
       if (d < 0 || b.n(t) * parts[ib][d] > b.n(d) * parts[ib][t]) d = t;
     }

@@ -11,6 +11,7 @@
 //   left free and joined as 1-to-1 interfaces by finalize_grid. Limitation: faces
 //   between two original blocks stay conforming only if both are cut alike along the
 //   shared face (the connectivity matches whole faces); single-block grids always are.
+#include <array>
 #include <vector>
 
 #include "mesh/block.hpp"
@@ -29,6 +30,9 @@ BlockAssignment assign_blocks(const Grid& g, int ranks);
 
 // The grid with its blocks cut into pieces until assign_blocks' imbalance is at most
 // `tolerance` (or no block can be cut further, or `max_blocks` is reached).
-Grid split_for_balance(const Grid& g, int ranks, Real tolerance, int multigrid_levels, int max_blocks = 4096);
+// `uncut[ib][d]`: never cut block ib across direction d (e.g. the wall-normal lines an
+// algebraic turbulence model searches); empty: every direction may be cut.
+Grid split_for_balance(const Grid& g, int ranks, Real tolerance, int multigrid_levels, int max_blocks = 4096,
+                       const std::vector<std::array<bool, 3>>& uncut = {});
 
 }  // namespace narwhal

@@ -61,5 +61,20 @@ TEST(Partition, SplitterBalancesThreeRanksAndKeepsMultigridLevels) {
   EXPECT_EQ(balanced_already.blocks.size(), 4u);  // nothing to cut
 }
 
+TEST(Partition, SplitterLeavesProtectedDirectionsWholeAndRecordsWherePiecesCameFrom) {
+  const Grid g = box_grid(40, 64, 2);  // j is the longest: cut there unless protected
+  const Grid free_cut = split_for_balance(g, 2, 0.05, 1);
+  ASSERT_EQ(free_cut.blocks.size(), 2u);
+  EXPECT_EQ(free_cut.blocks[0].nj, 32);
+  const Grid kept = split_for_balance(g, 2, 0.05, 1, 4096, {{false, true, false}});
+  ASSERT_EQ(kept.blocks.size(), 2u);
+  for (const Block& b : kept.blocks) {
+    EXPECT_EQ(b.nj, 64) << b.name;  // whole j lines
+    EXPECT_EQ(b.parent, "box");
+  }
+  EXPECT_EQ(kept.blocks[0].parent_offset, (Index3{0, 0, 0}));
+  EXPECT_EQ(kept.blocks[1].parent_offset, (Index3{20, 0, 0}));
+}
+
 }  // namespace
 }  // namespace narwhal
