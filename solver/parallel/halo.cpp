@@ -73,7 +73,9 @@ const HaloPlans& halo_plans(const Grid& g) {
   return *plans;
 }
 
-void transfer(const ExchangePlan& plan, std::vector<std::vector<double>>& out, std::vector<std::vector<double>>& in) {
+void transfer(const ExchangePlan& plan) {
+  auto& out = plan.out;
+  auto& in = plan.in;
 #ifdef NARWHAL_HAVE_MPI
   std::vector<MPI_Request> requests;
   constexpr int tag = 4711;

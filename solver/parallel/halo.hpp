@@ -39,6 +39,8 @@ struct HaloPeer {
 struct ExchangePlan {
   int rank = 0;
   std::vector<HaloPeer> peers;  // one per rank this rank talks to (itself included)
+  // Message buffers per peer, reused by every exchange through this plan.
+  mutable std::vector<std::vector<double>> out, in;
   std::size_t sent_cells() const;  // off-rank only
   std::size_t messages() const;    // off-rank sends
 };
@@ -87,8 +89,8 @@ struct HaloPlans {
 };
 const HaloPlans& halo_plans(const Grid& g);
 
-// Moves the buffers: out[k] to peer k, in[k] from peer k (doubles).
-void transfer(const ExchangePlan& plan, std::vector<std::vector<double>>& out, std::vector<std::vector<double>>& in);
+// Moves the plan's buffers: out[k] to peer k, in[k] from peer k (doubles).
+void transfer(const ExchangePlan& plan);
 
 // Fills the plan's ghosts of the owned blocks of A (arrays of blocks not owned may be
 // empty). rotate(R, value) maps a donor value into the receiver's frame. Collective:
@@ -97,7 +99,10 @@ template <class T, class Rotate>
 void exchange(const Grid& g, const ExchangePlan& plan, std::vector<GhostArray<T>>& A, Rotate&& rotate) {
   static_assert(sizeof(T) % sizeof(double) == 0, "halo values are made of doubles");
   constexpr std::size_t w = sizeof(T) / sizeof(double);
-  std::vector<std::vector<double>> out(plan.peers.size()), in(plan.peers.size());
+  auto& out = plan.out;
+  auto& in = plan.in;
+  out.resize(plan.peers.size());
+  in.resize(plan.peers.size());
   for (std::size_t k = 0; k < plan.peers.size(); ++k) {
     const HaloPeer& p = plan.peers[k];
     out[k].resize(w * p.send.size());
@@ -108,7 +113,7 @@ void exchange(const Grid& g, const ExchangePlan& plan, std::vector<GhostArray<T>
       o += w;
     }
   }
-  transfer(plan, out, in);
+  transfer(plan);
   for (std::size_t k = 0; k < plan.peers.size(); ++k) {
     const double* i = in[k].data();
     for (const HaloCell& c : plan.peers[k].receive) {

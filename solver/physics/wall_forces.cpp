@@ -45,7 +45,7 @@ void wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp,
   }
 }
 
-ForceCoefficients integrate_forces(const std::vector<WallFace>& faces, Real area_ref, Real length_ref,
+ForceCoefficients integrate_forces(std::span<const WallFace> faces, Real area_ref, Real length_ref,
                                    const Vec3& centre) {
   ForceCoefficients c;
   for (const auto& w : faces) {
@@ -80,10 +80,9 @@ std::map<std::string, ForceCoefficients> integrate_forces(const Grid& g,
           const PatchRange r = face_range(p);
           n += static_cast<std::size_t>(r.hi[0] - r.lo[0]) * (r.hi[1] - r.lo[1]) * (r.hi[2] - r.lo[2]);
         }
-      const std::vector<WallFace> mine(list.begin() + static_cast<std::ptrdiff_t>(next),
-                                       list.begin() + static_cast<std::ptrdiff_t>(next + n));
+      const ForceCoefficients c = integrate_forces(std::span<const WallFace>(list).subspan(next, n), area_ref,
+                                                   length_ref, centre);
       next += n;
-      const ForceCoefficients c = integrate_forces(mine, area_ref, length_ref, centre);
       Real* s = &partial[(ib * groups + gi) * width];
       for (int m = 0; m < 3; ++m) {
         s[m] = c.force[m];

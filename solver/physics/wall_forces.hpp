@@ -1,6 +1,7 @@
 #pragma once
 // Surface quantities on no-slip walls (§4.5) and their integrals per wall group.
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,7 @@ std::map<std::string, std::vector<WallFace>> wall_faces(const Grid& g, const Flo
 void wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp,
                 std::map<std::string, std::vector<WallFace>>& out);
 
-ForceCoefficients integrate_forces(const std::vector<WallFace>& faces, Real area_ref, Real length_ref,
+ForceCoefficients integrate_forces(std::span<const WallFace> faces, Real area_ref, Real length_ref,
                                    const Vec3& moment_centre);
 
 // Every group's coefficients over all ranks (faces of the owned blocks, from
