@@ -19,6 +19,11 @@
 // value; cells on no line get nu_t = 0. Updated after every mean-flow step, under-
 // relaxed like the transport models (turbulence.relaxation).
 // Limits: attached boundary layers on walls whose normal is a grid direction; no wakes.
+// Low Re_theta: with these constants the model keeps its high-Reynolds-number wake, so on
+// a flat plate Cf lies 5.9 % below Karman-Schoenherr at Re_theta = 2000 and 3.6 % below
+// at 10000 — the model's answer, not a discretization one: an independent boundary-
+// layer-equation solver with the same model (validation/tools/boundary_layer_march.py)
+// agrees with this implementation to 0.2 % over 2000 < Re_theta < 10000 (tmr_flat_plate).
 #include "turbulence/model.hpp"
 
 namespace narwhal {
