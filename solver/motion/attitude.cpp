@@ -5,6 +5,12 @@
 
 namespace narwhal {
 
+Mat3 cross_product_matrix(const Vec3& a) {
+  Mat3 s;
+  s << 0, -a[2], a[1], a[2], 0, -a[0], -a[1], a[0], 0;
+  return s;
+}
+
 Mat3 rotation_matrix(const Quaternion& e) {
   const Real e0 = e[0], e1 = e[1], e2 = e[2], e3 = e[3];
   Mat3 r;

@@ -16,6 +16,9 @@ struct EulerAngles {
   Real yaw = 0.0;    // psi
 };
 
+// S(a) with S(a) b = a x b (§11.2's skew-symmetric matrix; also R-dot = R S(omega), §11.4).
+Mat3 cross_product_matrix(const Vec3& a);
+
 // §11.3: body -> earth rotation matrix.
 Mat3 rotation_matrix(const Quaternion& e);
 

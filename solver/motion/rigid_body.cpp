@@ -6,16 +6,6 @@
 
 namespace narwhal {
 
-namespace {
-
-Mat3 skew(const Vec3& a) {  // skew(a) b = a x b
-  Mat3 s;
-  s << 0, -a[2], a[1], a[2], 0, -a[0], -a[1], a[0], 0;
-  return s;
-}
-
-}  // namespace
-
 BodyLoads operator+(BodyLoads a, const BodyLoads& b) { return a += b; }
 BodyLoads operator*(Real s, const BodyLoads& a) { return {s * a.force, s * a.moment}; }
 
@@ -33,7 +23,7 @@ RigidBodyEquations::RigidBodyEquations(const MassProperties& mp) : mp_(mp) {
   if (!mp.inertia_o.allFinite() || (mp.inertia_o - mp.inertia_o.transpose()).norm() > 1e-12 * mp.inertia_o.norm())
     fail("rigid body: the inertia tensor about O must be finite and symmetric");
   // §11.2: M_RB = [m I, -m S(r_G); m S(r_G), I_O], symmetric because S(r_G)^T = -S(r_G).
-  const Mat3 s = skew(mp.r_g);
+  const Mat3 s = cross_product_matrix(mp.r_g);
   m_rb_.setZero();
   m_rb_.topLeftCorner<3, 3>() = mp.mass * Mat3::Identity();
   m_rb_.topRightCorner<3, 3>() = -mp.mass * s;
