@@ -7,10 +7,13 @@
 #include <memory>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "bc/boundary.hpp"
 #include "io/cgns_writer.hpp"
 #include "io/monitors.hpp"
+#include "io/output_directory.hpp"
+#include "io/text_file.hpp"
 #include "io/restart.hpp"
 #include "parallel/communicator.hpp"
 #include "parallel/distribution.hpp"
@@ -46,56 +49,48 @@ FlowParams flow_params(const CaseConfig& c) {
 
 namespace {
 
-std::string json_escape(const std::string& s) {
-  std::string o;
-  for (char ch : s) {
-    switch (ch) {
-      case '"': o += "\\\""; break;
-      case '\\': o += "\\\\"; break;
-      case '\n': o += "\\n"; break;
-      case '\t': o += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(ch) < 0x20) o += fmt::format("\\u{:04x}", static_cast<int>(ch));
-        else o += ch;
-    }
-  }
-  return o;
+const char* viscous_name(ViscousForm v) {
+  return v == ViscousForm::Full ? "full" : (v == ViscousForm::ThinLayer ? "thin-layer" : "inviscid");
 }
 
+// run.json: what the harness reads of a run. Non-finite numbers become null (valid JSON).
 void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g, const RunSummary& s,
                     const IterationNorms& last, const std::map<std::string, ForceCoefficients>& forces,
                     const Vec3& body_force, int ranks) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) fail("cannot write '{}'", path);
-  fmt::print(f, "{{\n  \"case\": \"{}\",\n  \"title\": \"{}\",\n", json_escape(c.file), json_escape(c.title));
-  fmt::print(f, "  \"status\": \"{}\",\n  \"message\": \"{}\",\n", to_string(s.status), json_escape(s.message));
-  fmt::print(f, "  \"iterations\": {},\n  \"wall_seconds\": {:.6f},\n  \"cells\": {},\n  \"blocks\": {},\n  \"ranks\": {},\n",
-             s.iterations, s.wall_seconds, g.cells(), g.blocks.size(), ranks);
-  fmt::print(f, "  \"residual_drop\": {:.6e},\n  \"final_residual\": {{\"p\": {:.6e}, \"u\": {:.6e}, \"v\": {:.6e}, \"w\": {:.6e}}},\n",
-             s.residual_drop, last.l2[0], last.l2[1], last.l2[2], last.l2[3]);
-  fmt::print(f, "  \"settings\": {{\"reynolds\": {:.9g}, \"beta\": {:.9g}, \"viscous\": \"{}\", \"muscl_kappa\": {:.9g}, "
-                "\"muscl_phi\": {:.9g}, \"cfl_start\": {:.9g}, \"cfl_max\": {:.9g}, \"sgs_iterations\": {}, "
-                "\"max_iterations\": {}, \"residual_drop_target\": {:.3e}, \"multigrid_levels\": {}, \"multigrid_cycle\": \"{}\"}},\n",
-             c.flow.reynolds, c.flow.beta,
-             c.flow.viscous == ViscousForm::Full ? "full" : (c.flow.viscous == ViscousForm::ThinLayer ? "thin-layer" : "inviscid"),
-             c.flow.muscl.kappa, c.flow.muscl.phi, c.solver.newton.cfl_start, c.solver.newton.cfl_max,
-             c.solver.newton.sgs_iterations, c.solver.max_iterations, c.solver.residual_drop, c.solver.multigrid.levels,
-             c.solver.multigrid.gamma == 2 ? "W" : "V");
-  fmt::print(f, "  \"body_force\": [{:.12e}, {:.12e}, {:.12e}],\n", body_force[0], body_force[1], body_force[2]);
-  fmt::print(f, "  \"forces\": {{");
-  bool first = true;
-  for (const auto& [name, fc] : forces) {
-    fmt::print(f, "{}\n    \"{}\": {{\"cfx\": {:.12e}, \"cfy\": {:.12e}, \"cfz\": {:.12e}, \"cmx\": {:.12e}, \"cmy\": {:.12e}, \"cmz\": {:.12e}}}",
-               first ? "" : ",", json_escape(name), fc.force[0], fc.force[1], fc.force[2], fc.moment[0], fc.moment[1],
-               fc.moment[2]);
-    first = false;
-  }
-  fmt::print(f, "{}}},\n", forces.empty() ? "" : "\n  ");
-  fmt::print(f, "  \"provenance\": {{\"version\": \"{}\", \"git_sha\": \"{}\", \"compiler\": \"{}\", \"flags\": \"{}\"}}\n}}\n",
-             kVersion, kGitSha, kCompiler, kBuildFlags);
-  std::fclose(f);
+  nlohmann::ordered_json j;
+  j["case"] = c.file;
+  j["title"] = c.title;
+  j["status"] = to_string(s.status);
+  j["message"] = s.message;
+  j["iterations"] = s.iterations;
+  j["wall_seconds"] = s.wall_seconds;
+  j["cells"] = g.cells();
+  j["blocks"] = g.blocks.size();
+  j["ranks"] = ranks;
+  j["residual_drop"] = s.residual_drop;
+  j["final_residual"] = {{"p", last.l2[0]}, {"u", last.l2[1]}, {"v", last.l2[2]}, {"w", last.l2[3]}};
+  j["settings"] = {{"reynolds", c.flow.reynolds},
+                   {"beta", c.flow.beta},
+                   {"viscous", viscous_name(c.flow.viscous)},
+                   {"muscl_kappa", c.flow.muscl.kappa},
+                   {"muscl_phi", c.flow.muscl.phi},
+                   {"cfl_start", c.solver.newton.cfl_start},
+                   {"cfl_max", c.solver.newton.cfl_max},
+                   {"sgs_iterations", c.solver.newton.sgs_iterations},
+                   {"max_iterations", c.solver.max_iterations},
+                   {"residual_drop_target", c.solver.residual_drop},
+                   {"multigrid_levels", c.solver.multigrid.levels},
+                   {"multigrid_cycle", c.solver.multigrid.gamma == 2 ? "W" : "V"},
+                   {"turbulence_model", c.turbulence.model}};
+  j["body_force"] = {body_force[0], body_force[1], body_force[2]};
+  nlohmann::ordered_json f = nlohmann::ordered_json::object();
+  for (const auto& [name, fc] : forces)
+    f[name] = {{"cfx", fc.force[0]}, {"cfy", fc.force[1]}, {"cfz", fc.force[2]},
+               {"cmx", fc.moment[0]}, {"cmy", fc.moment[1]}, {"cmz", fc.moment[2]}};
+  j["forces"] = f;
+  j["provenance"] = {{"version", kVersion}, {"git_sha", kGitSha}, {"compiler", kCompiler}, {"flags", kBuildFlags}};
+  write_file_atomically(path, j.dump(2) + "\n");
 }
-
 
 }  // namespace
 
@@ -120,9 +115,20 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   }
   FlowField field;
   field.allocate(g, fp, c.initial);
-  if (root) fs::create_directories(opt.out_dir);
+  // A run from a restart continues the directory's history; restarting from the
+  // directory's own restart.h5 keeps that file as the last good state until the next.
+  const bool continuing = opt.restart.has_value();
+  const bool own_restart = continuing && restart_is_in(*opt.restart, opt.out_dir);
+  std::unique_ptr<OutputDirectory> out_dir;
+  if (root) {
+    out_dir = std::make_unique<OutputDirectory>(opt.out_dir, continuing, own_restart);
+    if (!out_dir->cleared().empty())
+      fmt::print("narwhal: removed the previous run's outputs from '{}' ({} files)\n", opt.out_dir,
+                 out_dir->cleared().size());
+  }
   comm.barrier();
   const std::string restart_path = (fs::path(opt.out_dir) / "restart.h5").string();
+  int last_restart = -1;  // iteration of the newest restart.h5 of this run's lineage in out_dir
 
   RestartInfo info;
   if (opt.restart) {
@@ -130,11 +136,12 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
     if (pieces) {
       FlowField w;
       w.allocate(whole, fp, c.initial);
-      info = read_restart(*opt.restart, whole, w);
+      info = read_restart(*opt.restart, whole, w, c.turbulence.model);
       copy_between_layouts(g, field, whole, w, false);
     } else {
-      info = read_restart(*opt.restart, g, field);
+      info = read_restart(*opt.restart, g, field, c.turbulence.model);
     }
+    if (own_restart) last_restart = info.iteration;
   }
   // The root writes files in the case's layout from every rank's cells.
   FlowField whole_field;
@@ -150,6 +157,7 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   auto save_restart = [&](const RestartInfo& r) {
     FlowField& out = assemble();
     if (root) write_restart(restart_path, pieces ? whole : g, out, r, c.text);
+    last_restart = r.iteration;
   };
   if (flow_rate && info.body_force > 0.0) flow_rate->set_magnitude(info.body_force);
   if (c.solver.planar_shortcut) {
@@ -189,12 +197,13 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
   for (int m = 0; turb && m < turb->num_variables(); ++m) turb_names.push_back(turb->variable_name(m));
   std::unique_ptr<HistoryWriter> history;
   if (root)
-    history = std::make_unique<HistoryWriter>((fs::path(opt.out_dir) / "history.csv").string(), groups,
-                                              opt.restart.has_value(), turb_names);
+    history = std::make_unique<HistoryWriter>((fs::path(opt.out_dir) / "history.csv").string(), groups, turb_names,
+                                              continuing ? std::optional<int>(info.iteration) : std::nullopt);
   std::vector<Real> turb_res(turb_names.size(), 0.0), turb_ref(turb_names.size(), -1.0);
   for (std::size_t m = 0; m < turb_ref.size() && opt.restart; ++m) turb_ref[m] = info.turbulence_reference[m];
   auto restart_info = [&](int it, Real wall) {
-    RestartInfo r{it, solver.reference_norm(), wall, {-1.0, -1.0}, flow_rate ? flow_rate->magnitude() : -1.0};
+    RestartInfo r{it, solver.reference_norm(), wall, {-1.0, -1.0}, flow_rate ? flow_rate->magnitude() : -1.0,
+                  c.turbulence.model};
     for (std::size_t m = 0; m < turb_ref.size(); ++m) r.turbulence_reference[m] = turb_ref[m];
     return r;
   };
@@ -246,7 +255,6 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
       }
       if (c.output.restart_interval > 0 && it % c.output.restart_interval == 0) {
         solver.check_finite();
-        if (history) history->flush();
         save_restart(restart_info(it, elapsed()));
       }
       if (opt.progress && root && (clock::now() - last_print > std::chrono::milliseconds(200))) {
@@ -271,7 +279,6 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
                             solver.describe_largest_residual());
   if (opt.progress && root) fmt::print("\n");
   s.wall_seconds = comm.max(elapsed());
-  if (history) history->flush();
   if (s.status != RunStatus::Diverged) {
     save_restart(restart_info(s.iterations, s.wall_seconds));
     if (root) {  // surfaces and the solution from the assembled field, as a serial run
@@ -291,7 +298,8 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
       out_grid.halo.reset();
     }
   } else if (root) {
-    s.message += fs::exists(restart_path) ? "; the last good restart.h5 is kept" : "; no restart was written before";
+    s.message += last_restart >= 0 ? fmt::format("; the last good restart.h5 (iteration {}) is kept", last_restart)
+                                   : std::string("; no restart was written before");
   }
   comm.barrier();
   if (!root) return s;

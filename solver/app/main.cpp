@@ -9,6 +9,7 @@
 
 #include "app/driver.hpp"
 #include "core/error.hpp"
+#include "multigrid/coarsen.hpp"
 #include "parallel/communicator.hpp"
 #include "parallel/halo.hpp"
 #include "parallel/partition.hpp"
@@ -37,6 +38,16 @@ int check_case(const std::string& path, const std::vector<std::string>& override
       fmt::print("    {:5s} {:>24s}  {}\n", side_name(p.side), p.label, to_string(p.type));
   }
   fmt::print("  flow: Re = {:g}, beta = {:g}\n", c.flow.reynolds, c.flow.beta);
+  // The levels a run would build: each coarsening must be possible on this grid.
+  Grid level = g;
+  for (int l = 1; l < c.solver.multigrid.levels; ++l) {
+    const std::string why = why_not_coarsenable(level);
+    if (!why.empty())
+      fail("{}: key 'solver.multigrid_levels': {} levels need {} coarsenings, but coarsening {} fails: {}", path,
+           c.solver.multigrid.levels, c.solver.multigrid.levels - 1, l, why);
+    level = coarsen(level);
+  }
+  fmt::print("  multigrid: {} level(s)\n", c.solver.multigrid.levels);
   return 0;
 }
 
@@ -90,7 +101,8 @@ int main(int argc, char** argv) {
   run->add_option("case", case_path, "case file (TOML)")->required();
   run->add_option("--out,-o", out_dir, "output directory")->capture_default_str();
   run->add_option("--restart", restart, "continue from this restart.h5");
-  run->add_option("--max-iterations", max_iterations, "override solver.max_iterations");
+  run->add_option("--max-iterations", max_iterations, "override solver.max_iterations")
+      ->check(CLI::Range(0, 1000000000));
   run->add_option("--set", overrides, "override a case key, e.g. --set grid.cells_plate=48 (value in TOML syntax)");
 
   std::string check_path;
@@ -107,7 +119,18 @@ int main(int argc, char** argv) {
 
   auto* list_models = app.add_subcommand("list-models", "list the turbulence models (turbulence.model = \"name\")");
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);  // prints the message and the usage
+    return 2;     // every input error exits 2 (README)
+  }
   try {
     if (*list_models) {
       std::size_t width = 0;
@@ -130,5 +153,14 @@ int main(int argc, char** argv) {
     // An error seen by one rank would leave the others waiting in a collective.
     if (comm.size() > 1) comm.abort(2);
     return 2;
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "narwhal: error: out of memory (the grid or the case asks for more than this machine has)\n");
+    if (comm.size() > 1) comm.abort(2);
+    return 2;
+  } catch (const std::exception& e) {
+    // Not a known input error: a defect to report, but still a message and no core dump.
+    fmt::print(stderr, "narwhal: internal error: {}\n", e.what());
+    if (comm.size() > 1) comm.abort(4);
+    return 4;
   }
 }

@@ -4,6 +4,7 @@
 
 #include "multigrid/coarsen.hpp"
 
+#include <cmath>
 #include <filesystem>
 
 #include <Eigen/Geometry>
@@ -16,6 +17,15 @@
 
 namespace narwhal {
 namespace {
+
+// Cell counts per direction of generated grids (mesh/block.hpp has the why).
+const Range kCellCount = Range::between(1, kMaxCellsPerDirection);
+// Sweeps and smoothing passes: beyond these a run would sit for hours on one step.
+const Range kSweepCount = Range::between(1, 1000);
+const Range kSmoothCount = Range::between(1, 100);
+// The splitter cuts at most this many pieces (parallel/partition.hpp).
+constexpr int kMaxSplitRanks = 4096;
+
 
 BcType parse_bc_type(const ConfigReader& r, const std::string& key) {
   const std::string t = r.string(key, "a boundary type");
@@ -32,29 +42,34 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
   g.type = r.string("grid.type", "one of flat_plate, box, perturbed_box, plot3d");
   if (g.type == "flat_plate") {
     auto& p = g.plate;
-    p.x_runup = r.number_or("grid.runup", p.x_runup, "the run-up length ahead of the plate");
-    p.length = r.number_or("grid.length", p.length, "the plate length");
-    p.height = r.number_or("grid.height", p.height, "the domain height");
-    p.width = r.number_or("grid.width", p.width, "the span of the single cell in z");
-    p.n_runup = r.integer_or("grid.cells_runup", p.n_runup, "cells along the run-up");
-    p.n_plate = r.integer_or("grid.cells_plate", p.n_plate, "cells along the plate");
-    p.n_normal = r.integer_or("grid.cells_normal", p.n_normal, "cells normal to the plate");
-    p.dx_le = r.number_or("grid.dx_leading_edge", p.dx_le, "the streamwise spacing at the leading edge");
-    p.dx_te = r.number_or("grid.dx_trailing_edge", p.dx_te, "the streamwise spacing at the trailing edge (0: free)");
-    p.dy_wall = r.number_or("grid.dy_wall", p.dy_wall, "the first wall-normal spacing");
+    p.x_runup = r.number_or("grid.runup", p.x_runup, "the run-up length ahead of the plate", Range::positive());
+    p.length = r.number_or("grid.length", p.length, "the plate length", Range::positive());
+    p.height = r.number_or("grid.height", p.height, "the domain height", Range::positive());
+    p.width = r.number_or("grid.width", p.width, "the span of the single cell in z", Range::positive());
+    p.n_runup = r.integer_or("grid.cells_runup", p.n_runup, "cells along the run-up", kCellCount);
+    p.n_plate = r.integer_or("grid.cells_plate", p.n_plate, "cells along the plate", kCellCount);
+    p.n_normal = r.integer_or("grid.cells_normal", p.n_normal, "cells normal to the plate", kCellCount);
+    p.dx_le = r.number_or("grid.dx_leading_edge", p.dx_le, "the streamwise spacing at the leading edge", Range::positive());
+    p.dx_te = r.number_or("grid.dx_trailing_edge", p.dx_te, "the streamwise spacing at the trailing edge (0: free)", Range::at_least(0));
+    p.dy_wall = r.number_or("grid.dy_wall", p.dy_wall, "the first wall-normal spacing", Range::positive());
   } else if (g.type == "box") {
     const char* names[3] = {"x", "y", "z"};
     for (int d = 0; d < 3; ++d) {
       const std::string key = std::string("grid.") + names[d];
       const Vec3 spec = r.vec3(key, "[start, end, cells]");
+      if (!(spec[2] >= 1 && spec[2] <= kMaxCellsPerDirection && spec[2] == std::floor(spec[2])))
+        r.error(key, fmt::format("the cell count (third entry) must be a whole number between 1 and {}, got {}",
+                                 kMaxCellsPerDirection, spec[2]));
       const int n = static_cast<int>(spec[2]);
-      if (n < 1 || spec[2] != n) r.error(key, "the cell count (third entry) must be a positive integer");
-      const std::string sk = std::string("grid.first_spacing_") + names[d];
-      const Real ds = r.number_or(sk, 0.0, "the first spacing from the start (0: uniform)");
+      if (!(spec[1] > spec[0])) r.error(key, fmt::format("the end ({}) must lie beyond the start ({})", spec[1], spec[0]));
       const std::string ck = std::string("grid.cluster_") + names[d];
       const std::string cluster = r.string_or(ck, "start", "where the first spacing applies: \"start\" or \"both\" ends");
       if (cluster != "start" && cluster != "both") r.error(ck, "expected \"start\" or \"both\", got '" + cluster + "'");
       if (cluster == "both" && n % 2 != 0) r.error(key, "clustering at both ends needs an even cell count");
+      // The first cell cannot be longer than the stretch it starts (half of it when both ends are clustered).
+      const Real span = (spec[1] - spec[0]) / (cluster == "both" ? 2 : 1);
+      const std::string sk = std::string("grid.first_spacing_") + names[d];
+      const Real ds = r.number_or(sk, 0.0, "the first spacing from the start (0: uniform)", Range::between(0.0, span));
       if (ds <= 0.0)
         g.box_nodes[d] = uniform_nodes(spec[0], spec[1], n);
       else if (cluster == "both")
@@ -63,8 +78,10 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
         g.box_nodes[d] = geometric_nodes(spec[0], spec[1], n, ds);
     }
   } else if (g.type == "perturbed_box") {
-    g.perturbed_cells = r.integer("grid.cells", "cells per direction of the unit box");
-    g.perturbed_amplitude = r.number_or("grid.amplitude", g.perturbed_amplitude, "the sinusoidal perturbation amplitude");
+    g.perturbed_cells = r.integer("grid.cells", "cells per direction of the unit box", Range::between(1, 512));
+    // Beyond about a quarter of the box the perturbed cells fold over.
+    g.perturbed_amplitude = r.number_or("grid.amplitude", g.perturbed_amplitude, "the sinusoidal perturbation amplitude",
+                                        Range::between(-0.2, 0.2));
   } else if (g.type == "plot3d") {
     const std::string f = r.string("grid.file", "the Plot3D grid file (relative to the case file)");
     g.plot3d_file = std::filesystem::path(f).is_absolute() ? f : (std::filesystem::path(base_dir) / f).string();
@@ -72,7 +89,7 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
     for (std::size_t i = 0; i < n; ++i) {
       const std::string pre = fmt::format("grid.patch[{}].", i);
       Plot3dPatch p;
-      p.block = r.integer(pre + "block", "the 1-based block number") - 1;
+      p.block = r.integer(pre + "block", "the 1-based block number", Range::at_least(1)) - 1;
       const std::string side = r.string(pre + "side", "one of imin, imax, jmin, jmax, kmin, kmax");
       p.side = parse_side(side);
       if (p.side < 0) r.error(pre + "side", "expected one of imin, imax, jmin, jmax, kmin, kmax, got '" + side + "'");
@@ -87,9 +104,11 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
         const int t = (d + 1 + q) % 3;
         const std::string key = pre + "range_" + "ijk"[t];
         if (r.has(key)) {
-          const Vec3 v = r.vec3(key, "[first cell, last cell + 1, 0]");
-          p.lo[t] = static_cast<int>(v[0]);
-          p.hi[t] = static_cast<int>(v[1]);
+          const auto [lo, hi] = r.index_range(key, "a 0-based, half-open cell range [first, last + 1]",
+                                              kMaxCellsPerDirection);
+          p.lo[t] = lo;
+          p.hi[t] = hi;
+          p.range_key[t] = key;
         }
       }
       g.plot3d_patches.push_back(p);
@@ -98,12 +117,15 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
     r.error("grid.type", "unknown grid type '" + g.type + "'; valid: flat_plate, box, perturbed_box, plot3d");
   }
   if (r.has("grid.split")) {
-    const Vec3 s = r.vec3("grid.split", "[parts_i, parts_j, parts_k]");
-    for (int d = 0; d < 3; ++d) g.split[d] = static_cast<int>(s[d]);
+    const Vec3 s = r.vec3("grid.split", "[parts_i, parts_j, parts_k]", Range::between(1, 64));
+    for (int d = 0; d < 3; ++d) {
+      if (s[d] != std::floor(s[d])) r.error("grid.split", fmt::format("expected whole numbers, entry {} is {}", d + 1, s[d]));
+      g.split[d] = static_cast<int>(s[d]);
+    }
   }
   g.split_rotate = r.boolean_or("grid.split_rotate", false, "whether split blocks get rotated index orientations");
-  g.coarsen = r.integer_or("grid.coarsen", 0, "how many times every other grid line is removed (nested families)");
-  if (g.coarsen < 0) r.error("grid.coarsen", "must be >= 0");
+  g.coarsen = r.integer_or("grid.coarsen", 0, "how many times every other grid line is removed (nested families)",
+                           Range::between(0, 16));
 }
 
 }  // namespace
@@ -119,23 +141,22 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   read_grid(r, base_dir, c.grid);
 
   auto& f = c.flow;
-  f.reynolds = r.number("flow.reynolds", "a positive number, Re = U L / nu");
-  if (!(f.reynolds > 0)) r.error("flow.reynolds", "must be positive");
-  f.beta = r.number_or("flow.beta", f.beta, "the artificial compressibility beta (5-10)");
-  if (!(f.beta > 0)) r.error("flow.beta", "must be positive");
+  f.reynolds = r.number("flow.reynolds", "Re = U L / nu", Range::positive());
+  f.beta = r.number_or("flow.beta", f.beta, "the artificial compressibility beta (5-10)", Range::positive());
   const std::string visc = r.string_or("flow.viscous", "full", "one of full, thin-layer, inviscid");
   if (visc == "full") f.viscous = ViscousForm::Full;
   else if (visc == "thin-layer") f.viscous = ViscousForm::ThinLayer;
   else if (visc == "inviscid") f.viscous = ViscousForm::Inviscid;
   else r.error("flow.viscous", "expected one of full, thin-layer, inviscid, got '" + visc + "'");
-  f.muscl.kappa = r.number_or("flow.muscl_kappa", f.muscl.kappa, "the MUSCL kappa");
-  f.muscl.phi = r.number_or("flow.muscl_phi", f.muscl.phi, "the MUSCL phi (0 first order, 1 higher order)");
+  f.muscl.kappa = r.number_or("flow.muscl_kappa", f.muscl.kappa, "the MUSCL kappa", Range::between(-1, 1));
+  f.muscl.phi = r.number_or("flow.muscl_phi", f.muscl.phi, "the MUSCL phi (0 first order, 1 higher order)",
+                             Range::between(0, 1));
   c.initial[0] = r.number_or("flow.initial_pressure", 0.0, "the initial pressure");
   c.initial.tail<3>() = r.vec3_or("flow.initial_velocity", Vec3(1, 0, 0), "the initial velocity [u, v, w]");
   c.body_force = r.vec3_or("flow.body_force", Vec3::Zero(), "a constant body force per unit volume [fx, fy, fz]");
   c.bulk_velocity = r.number_or("flow.bulk_velocity", 0.0,
-                                "the bulk velocity the body force is adjusted to (periodic ducts; 0: force fixed)");
-  if (c.bulk_velocity < 0.0) r.error("flow.bulk_velocity", "must be >= 0");
+                                "the bulk velocity the body force is adjusted to (periodic ducts; 0: force fixed)",
+                                Range::at_least(0));
   if (c.bulk_velocity > 0.0 && c.body_force.norm() == 0.0)
     r.error("flow.bulk_velocity", "needs flow.body_force for the direction and first estimate of the force");
   c.manufactured = r.boolean_or("flow.manufactured_solution", false, "whether to run the §12.2 manufactured solution");
@@ -158,46 +179,52 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
     p.b = r.string(pre + "b", "the label of the second periodic patch");
     if (r.has(pre + "translation")) p.translation = r.vec3(pre + "translation", "the translation from b to a");
     p.axis = r.vec3_or(pre + "axis", Vec3::UnitX(), "the rotation axis");
-    p.angle_deg = r.number_or(pre + "angle", 0.0, "the rotation angle from b to a in degrees");
+    if (!(p.axis.norm() > 0.0)) r.error(pre + "axis", "the rotation axis must not be the zero vector");
+    p.angle_deg = r.number_or(pre + "angle", 0.0, "the rotation angle from b to a in degrees", Range::between(-360, 360));
     c.periodic.push_back(p);
   }
 
-  c.split_for = r.integer_or("parallel.split_for", 0,
-                             "the rank count the blocks are cut for (0: the ranks of the run)");
-  if (c.split_for < 0) r.error("parallel.split_for", "must be >= 0");
+  c.split_for = r.integer_or("parallel.split_for", 0, "the rank count the blocks are cut for (0: the ranks of the run)",
+                             Range::between(0, kMaxSplitRanks));
 
   auto& s = c.solver;
-  s.max_iterations = r.integer_or("solver.max_iterations", s.max_iterations, "the iteration limit");
-  s.residual_drop = r.number_or("solver.residual_drop", s.residual_drop, "the residual reduction that ends the run");
+  s.max_iterations = r.integer_or("solver.max_iterations", s.max_iterations, "the iteration limit",
+                                  Range::between(0, 1e9));
+  s.residual_drop = r.number_or("solver.residual_drop", s.residual_drop, "the residual reduction that ends the run",
+                                Range::open(0, 1));
   s.divergence_factor = r.number_or("solver.divergence_factor", s.divergence_factor,
-                                    "the residual growth that counts as divergence");
+                                    "the residual growth that counts as divergence", Range::above(1));
   s.planar_shortcut = r.boolean_or("solver.planar_shortcut", s.planar_shortcut,
                                    "whether planar slabs skip their cancelling symmetry-plane faces");
-  s.newton.cfl_start = r.number_or("solver.cfl_start", s.newton.cfl_start, "the initial CFL number");
-  s.newton.cfl_max = r.number_or("solver.cfl_max", s.newton.cfl_max, "the largest CFL number");
+  s.newton.cfl_start = r.number_or("solver.cfl_start", s.newton.cfl_start, "the initial CFL number", Range::positive());
+  s.newton.cfl_max = r.number_or("solver.cfl_max", s.newton.cfl_max, "the largest CFL number",
+                                 Range::at_least(s.newton.cfl_start));
   s.newton.sgs_iterations = r.integer_or("solver.sgs_iterations", s.newton.sgs_iterations,
-                                         "symmetric Gauss-Seidel iterations per Newton iteration");
-  s.newton.fd_epsilon = r.number_or("solver.fd_epsilon", s.newton.fd_epsilon, "the Jacobian difference step");
+                                         "symmetric Gauss-Seidel iterations per Newton iteration", kSweepCount);
+  // A step beyond 1e-2 is no longer a derivative of the flux.
+  s.newton.fd_epsilon = r.number_or("solver.fd_epsilon", s.newton.fd_epsilon, "the Jacobian difference step",
+                                    Range{0.0, 1e-2, true, false});
   auto& mg = s.multigrid;
-  mg.levels = r.integer_or("solver.multigrid_levels", 1, "the number of multigrid levels (1: single grid)");
+  mg.levels = r.integer_or("solver.multigrid_levels", 1, "the number of multigrid levels (1: single grid)",
+                          Range::between(1, 16));
   const std::string cyc = r.string_or("solver.multigrid_cycle", "W", "V or W");
   if (cyc != "V" && cyc != "W") r.error("solver.multigrid_cycle", "expected \"V\" or \"W\", got '" + cyc + "'");
   mg.gamma = cyc == "W" ? 2 : 1;
-  mg.pre_smooth = r.integer_or("solver.pre_smooth", mg.pre_smooth, "Newton-SGS iterations before restriction");
-  mg.post_smooth = r.integer_or("solver.post_smooth", mg.post_smooth, "Newton-SGS iterations after prolongation");
-  mg.coarse_smooth = r.integer_or("solver.coarse_smooth", mg.coarse_smooth, "iterations on the coarsest level");
+  mg.pre_smooth = r.integer_or("solver.pre_smooth", mg.pre_smooth, "Newton-SGS iterations before restriction",
+                              Range::between(0, kSmoothCount.hi));
+  mg.post_smooth = r.integer_or("solver.post_smooth", mg.post_smooth, "Newton-SGS iterations after prolongation",
+                               Range::between(0, kSmoothCount.hi));
+  mg.coarse_smooth = r.integer_or("solver.coarse_smooth", mg.coarse_smooth, "iterations on the coarsest level",
+                                 kSmoothCount);
   const std::string pro = r.string_or("solver.prolongation", "trilinear", "trilinear or injection");
   if (pro != "trilinear" && pro != "injection")
     r.error("solver.prolongation", "expected \"trilinear\" or \"injection\", got '" + pro + "'");
   mg.injection = pro == "injection";
   mg.jacobian_interval = r.integer_or("solver.jacobian_interval", mg.jacobian_interval,
-                                      "cycles between reassemblies of the block matrices (multigrid)");
-  if (mg.jacobian_interval < 1) r.error("solver.jacobian_interval", "must be >= 1");
+                                      "cycles between reassemblies of the block matrices (multigrid)",
+                                      Range::between(1, 1e6));
   mg.reuse_jacobian = r.boolean_or("solver.reuse_jacobian", mg.reuse_jacobian,
                                    "whether post-smoothing reuses the pre-smoothing Jacobians");
-  if (mg.levels < 1) r.error("solver.multigrid_levels", "must be >= 1");
-  if (s.max_iterations < 0) r.error("solver.max_iterations", "must be >= 0");
-  if (s.newton.sgs_iterations < 1) r.error("solver.sgs_iterations", "must be >= 1");
 
   auto& t = c.turbulence;
   std::string valid_models;
@@ -207,22 +234,21 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   for (const auto& m : turbulence_models()) known_model = known_model || m.name == t.model;
   if (!known_model) r.error("turbulence.model", "expected one of " + valid_models + ", got '" + t.model + "'");
   t.freestream_nut_ratio = r.number_or("turbulence.freestream_nut_ratio", t.freestream_nut_ratio,
-                                       "the free-stream eddy-viscosity ratio (SA: nu_tilde/nu)");
-  t.intensity = r.number_or("turbulence.intensity", t.intensity, "the free-stream turbulence intensity");
-  t.iterations = r.integer_or("turbulence.iterations", t.iterations, "model iterations per mean-flow step");
+                                       "the free-stream eddy-viscosity ratio (SA: nu_tilde/nu)", Range::positive());
+  t.intensity = r.number_or("turbulence.intensity", t.intensity, "the free-stream turbulence intensity (a fraction)",
+                            Range::between(0, 1));
+  t.iterations = r.integer_or("turbulence.iterations", t.iterations, "model iterations per mean-flow step",
+                             kSmoothCount);
   t.sgs_iterations = r.integer_or("turbulence.sgs_iterations", t.sgs_iterations,
-                                  "symmetric Gauss-Seidel pairs per model iteration");
-  t.cfl_max = r.number_or("turbulence.cfl_max", t.cfl_max, "the cap of the model's pseudo-time CFL number");
+                                  "symmetric Gauss-Seidel pairs per model iteration", kSweepCount);
+  t.cfl_max = r.number_or("turbulence.cfl_max", t.cfl_max, "the cap of the model's pseudo-time CFL number",
+                          Range::positive());
   t.degani_schiff = r.boolean_or("turbulence.degani_schiff", t.degani_schiff,
                                  "whether Baldwin-Lomax takes F_max at the first peak (Degani-Schiff)");
-  t.relaxation = r.number_or("turbulence.relaxation", t.relaxation, "the under-relaxation of the model's update");
-  if (!(t.relaxation > 0.0 && t.relaxation <= 1.0)) r.error("turbulence.relaxation", "must be in (0, 1]");
-  if (t.freestream_nut_ratio <= 0.0) r.error("turbulence.freestream_nut_ratio", "must be > 0");
-  if (t.iterations < 1) r.error("turbulence.iterations", "must be >= 1");
-  if (t.sgs_iterations < 1) r.error("turbulence.sgs_iterations", "must be >= 1");
+  t.relaxation = r.number_or("turbulence.relaxation", t.relaxation, "the under-relaxation of the model's update",
+                             Range{0.0, 1.0, true, false});
   t.max_growth = r.number_or("turbulence.max_growth", t.max_growth,
-                             "the largest factor by which k, epsilon or omega may grow in one step");
-  if (!(t.max_growth > 1.0)) r.error("turbulence.max_growth", "must be > 1");
+                             "the largest factor by which k, epsilon or omega may grow in one step", Range::above(1));
   t.nonlinear.c1 = r.number_or("turbulence.nonlinear_c1", t.nonlinear.c1, "C1 of the quadratic stress (§8.5)");
   t.nonlinear.c2 = r.number_or("turbulence.nonlinear_c2", t.nonlinear.c2, "C2 of the quadratic stress (§8.5)");
   t.nonlinear.c3 = r.number_or("turbulence.nonlinear_c3", t.nonlinear.c3, "C3 of the quadratic stress (§8.5)");
@@ -230,9 +256,11 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
     r.error("flow.viscous", "the non-linear k-epsilon needs the full viscous stress (\"full\", NUMERICS §4.3)");
 
   auto& o = c.output;
-  o.restart_interval = r.integer_or("output.restart_interval", o.restart_interval, "iterations between restart files");
-  o.reference_area = r.number_or("output.reference_area", o.reference_area, "the force reference area");
-  o.reference_length = r.number_or("output.reference_length", o.reference_length, "the moment reference length");
+  o.restart_interval = r.integer_or("output.restart_interval", o.restart_interval,
+                                    "iterations between restart files (0: only at the end)", Range::between(0, 1e9));
+  o.reference_area = r.number_or("output.reference_area", o.reference_area, "the force reference area", Range::positive());
+  o.reference_length = r.number_or("output.reference_length", o.reference_length, "the moment reference length",
+                                    Range::positive());
   o.moment_centre = r.vec3_or("output.moment_centre", o.moment_centre, "the moment reference point");
   r.reject_unknown_keys();
   return c;
@@ -268,6 +296,9 @@ Grid build_grid(const CaseConfig& c, int balance_ranks) {
       for (int t = 0; t < 3; ++t) {
         q.lo[t] = p.lo[t];
         q.hi[t] = p.hi[t] < 0 ? b.n(t) : p.hi[t];
+        if (t != side_dir(p.side) && q.hi[t] > b.n(t))
+          fail("{}: key '{}': the range [{}, {}] runs past block {}, which has {} cells in {}: valid ranges lie "
+               "within [0, {}]", c.file, p.range_key[t], q.lo[t], q.hi[t], p.block + 1, b.n(t), "ijk"[t], b.n(t));
       }
       b.patches.push_back(q);
     }

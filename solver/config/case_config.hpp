@@ -20,8 +20,9 @@ namespace narwhal {
 struct Plot3dPatch {
   int block = 0;  // 0-based
   int side = 0;
-  Index3 lo{0, 0, 0}, hi{0, 0, 0};
+  Index3 lo{0, 0, 0}, hi{0, 0, 0};  // hi < 0: the whole face in that direction
   std::string label;
+  std::array<std::string, 3> range_key;  // the case key of each given range, for messages
 };
 
 struct GridConfig {

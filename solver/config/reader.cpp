@@ -1,5 +1,7 @@
 #include "config/reader.hpp"
 
+#include <charconv>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -17,6 +19,24 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
     std::swap(prev, cur);
   }
   return prev[b.size()];
+}
+
+bool Range::contains(double v) const {
+  if (std::isnan(v)) return false;
+  const bool above_lo = lo_open ? v > lo : v >= lo;
+  const bool below_hi = hi_open ? v < hi : v <= hi;
+  return above_lo && below_hi;
+}
+
+std::string Range::describe() const {
+  const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
+  if (has_lo && has_hi) {
+    if (!lo_open && !hi_open) return fmt::format("between {:.15g} and {:.15g}", lo, hi);
+    return fmt::format("in {}{:.15g}, {:.15g}{}", lo_open ? "(" : "[", lo, hi, hi_open ? ")" : "]");
+  }
+  if (has_lo) return fmt::format("{} {:.15g}", lo_open ? ">" : ">=", lo);
+  if (has_hi) return fmt::format("{} {:.15g}", hi_open ? "<" : "<=", hi);
+  return "finite";
 }
 
 ConfigReader::ConfigReader(const std::string& path) : file_(path) {
@@ -53,12 +73,37 @@ void ConfigReader::apply_override(const std::string& assignment) {
   }
   toml::table* t = &root_;
   std::size_t start = 0;
+  std::string walked;  // the dotted path so far, for messages
   for (std::size_t dot; (dot = key.find('.', start)) != std::string::npos; start = dot + 1) {
-    const std::string part = key.substr(start, dot - start);
+    std::string part = key.substr(start, dot - start);
+    std::optional<std::size_t> index;
+    if (const auto open = part.find('['); open != std::string::npos) {
+      std::size_t v = 0;
+      const auto close = part.find(']', open);
+      const char* first = part.data() + open + 1;
+      const char* last = part.data() + (close == std::string::npos ? part.size() : close);
+      const auto [end, ec] = std::from_chars(first, last, v);
+      if (close != part.size() - 1 || ec != std::errc() || end != last)
+        fail("override '{}': '{}' is not name[index] with a whole-number index", assignment, part);
+      index = v;
+      part.resize(open);
+    }
+    walked += (walked.empty() ? "" : ".") + part;
     toml::node* n = t->get(part);
+    if (index) {
+      toml::array* a = n ? n->as_array() : nullptr;
+      if (!a || !a->is_array_of_tables())
+        fail("override '{}': {} has no array of tables '{}' ([[{}]])", assignment, file_, walked, walked);
+      if (*index >= a->size())
+        fail("override '{}': {} has {} [[{}]] table(s), valid indices 0 to {}", assignment, file_, a->size(), walked,
+             a->size() - 1);
+      t = (*a)[*index].as_table();
+      walked += fmt::format("[{}]", *index);
+      continue;
+    }
     if (!n) n = &t->insert_or_assign(part, toml::table{}).first->second;
     t = n->as_table();
-    if (!t) fail("override '{}': '{}' is not a table in {}", assignment, part, file_);
+    if (!t) fail("override '{}': '{}' is not a table in {}", assignment, walked, file_);
   }
   t->insert_or_assign(key.substr(start), *parsed.get("v"));
 }
@@ -88,28 +133,44 @@ const char* type_name(const toml::node& n) {
     default: return "a date/time";
   }
 }
+std::string toml_text(const toml::node& n) {
+  std::ostringstream os;
+  n.visit([&](const auto& v) { os << v; });
+  return os.str();
+}
 }  // namespace
 
-Real ConfigReader::number(const std::string& key, const std::string& what) const {
+Real ConfigReader::number(const std::string& key, const std::string& what, const Range& range) const {
   const toml::node* n = find(key);
   if (!n) error(key, "missing required key (expected " + what + ")");
-  if (auto v = n->value<double>()) return *v;
-  error(key, std::string("expected ") + what + ", got " + type_name(*n));
+  const auto v = n->value<double>();
+  if (!v) error(key, std::string("expected ") + what + ", got " + type_name(*n));
+  if (!std::isfinite(*v)) error(key, fmt::format("expected {}, got {} (not a finite number)", what, *v));
+  if (!range.contains(*v)) error(key, fmt::format("expected {} {}, got {}", what, range.describe(), *v));
+  return *v;
 }
 
-Real ConfigReader::number_or(const std::string& key, Real fallback, const std::string& what) const {
-  return has(key) ? number(key, what) : fallback;
+Real ConfigReader::number_or(const std::string& key, Real fallback, const std::string& what,
+                             const Range& range) const {
+  return has(key) ? number(key, what, range) : fallback;
 }
 
-int ConfigReader::integer(const std::string& key, const std::string& what) const {
+int ConfigReader::integer(const std::string& key, const std::string& what, const Range& range) const {
   const toml::node* n = find(key);
   if (!n) error(key, "missing required key (expected " + what + ")");
-  if (n->is_integer()) return static_cast<int>(*n->value<int64_t>());
-  error(key, std::string("expected ") + what + " (an integer), got " + type_name(*n));
+  if (!n->is_integer()) error(key, std::string("expected ") + what + " (an integer), got " + type_name(*n));
+  // Checked on the 64-bit value TOML holds, before any narrowing (2^32 + 1 must not become 1).
+  const int64_t v = *n->value<int64_t>();
+  const Range r{std::max<double>(range.lo, std::numeric_limits<int>::min()),
+                std::min<double>(range.hi, std::numeric_limits<int>::max()), range.lo_open, range.hi_open};
+  if (!r.contains(static_cast<double>(v)))
+    error(key, fmt::format("expected {} (an integer {}), got {}", what, r.describe(), v));
+  return static_cast<int>(v);
 }
 
-int ConfigReader::integer_or(const std::string& key, int fallback, const std::string& what) const {
-  return has(key) ? integer(key, what) : fallback;
+int ConfigReader::integer_or(const std::string& key, int fallback, const std::string& what,
+                             const Range& range) const {
+  return has(key) ? integer(key, what, range) : fallback;
 }
 
 std::string ConfigReader::string(const std::string& key, const std::string& what) const {
@@ -131,7 +192,7 @@ bool ConfigReader::boolean_or(const std::string& key, bool fallback, const std::
   error(key, std::string("expected ") + what + " (true or false), got " + type_name(*n));
 }
 
-Vec3 ConfigReader::vec3(const std::string& key, const std::string& what) const {
+Vec3 ConfigReader::vec3(const std::string& key, const std::string& what, const Range& range) const {
   const toml::node* n = find(key);
   if (!n) error(key, "missing required key (expected " + what + ")");
   const toml::array* a = n->as_array();
@@ -140,13 +201,32 @@ Vec3 ConfigReader::vec3(const std::string& key, const std::string& what) const {
   for (int m = 0; m < 3; ++m) {
     auto x = (*a)[m].value<double>();
     if (!x) error(key, "expected " + what + " as an array of 3 numbers");
+    if (!std::isfinite(*x)) error(key, fmt::format("expected {}: entry {} is {} (not a finite number)", what, m + 1, *x));
+    if (!range.contains(*x))
+      error(key, fmt::format("expected {}: entry {} is {}, must be {}", what, m + 1, *x, range.describe()));
     v[m] = *x;
   }
   return v;
 }
 
-Vec3 ConfigReader::vec3_or(const std::string& key, const Vec3& fallback, const std::string& what) const {
-  return has(key) ? vec3(key, what) : fallback;
+Vec3 ConfigReader::vec3_or(const std::string& key, const Vec3& fallback, const std::string& what,
+                           const Range& range) const {
+  return has(key) ? vec3(key, what, range) : fallback;
+}
+
+std::pair<int, int> ConfigReader::index_range(const std::string& key, const std::string& what, int max_end) const {
+  const toml::node* n = find(key);
+  if (!n) error(key, "missing required key (expected " + what + ")");
+  const toml::array* a = n->as_array();
+  std::optional<int64_t> first, end;
+  if (a && a->size() == 2) {
+    first = (*a)[0].value_exact<int64_t>();
+    end = (*a)[1].value_exact<int64_t>();
+  }
+  if (!first || !end) error(key, fmt::format("expected {} as two integers, got {}", what, toml_text(*n)));
+  if (!(*first >= 0 && *first < *end && *end <= max_end))
+    error(key, fmt::format("expected {} with 0 <= first < end <= {}, got [{}, {}]", what, max_end, *first, *end));
+  return {static_cast<int>(*first), static_cast<int>(*end)};
 }
 
 std::vector<std::string> ConfigReader::subtables(const std::string& key) const {

@@ -2,9 +2,11 @@
 // Strict reader over a parsed TOML file: every lookup is recorded, so that after
 // parsing, keys nobody asked for are reported (with the nearest known key as a
 // suggestion). All errors name the file, the dotted key and what was expected.
+#include <limits>
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <toml++/toml.h>
@@ -13,6 +15,23 @@
 
 namespace narwhal {
 
+// The values a numeric key accepts. Every number read from a case must be finite;
+// a Range narrows it further, and its description goes into the error message.
+struct Range {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false, hi_open = false;
+
+  static Range any() { return {}; }
+  static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
+  static Range at_least(double lo) { return {lo, std::numeric_limits<double>::infinity(), false, false}; }
+  static Range above(double lo) { return {lo, std::numeric_limits<double>::infinity(), true, false}; }
+  static Range between(double lo, double hi) { return {lo, hi, false, false}; }
+  static Range open(double lo, double hi) { return {lo, hi, true, true}; }
+  bool contains(double v) const;
+  std::string describe() const;  // "> 0", "between 1 and 1000", ...
+};
+
 class ConfigReader {
  public:
   // Parses `path`; a syntax error is reported with its line and column.
@@ -20,22 +39,28 @@ class ConfigReader {
   ConfigReader(const std::string& text, const std::string& display_name);
 
   // Applies "dotted.key=value" (value in TOML syntax) before anything is read;
-  // missing intermediate tables are created.
+  // missing intermediate tables are created. A part may index an array of tables
+  // ("grid.patch[2].range_j=[0, 8]"); the table must exist.
   void apply_override(const std::string& assignment);
 
   const std::string& file() const { return file_; }
   const std::string& text() const { return text_; }
 
   bool has(const std::string& key) const;
-  Real number(const std::string& key, const std::string& what) const;
-  Real number_or(const std::string& key, Real fallback, const std::string& what) const;
-  int integer(const std::string& key, const std::string& what) const;
-  int integer_or(const std::string& key, int fallback, const std::string& what) const;
+  // Numbers are finite and inside `range`; integers are whole and inside `range`
+  // (which for integers must lie within int). The error names the key and the range.
+  Real number(const std::string& key, const std::string& what, const Range& range = {}) const;
+  Real number_or(const std::string& key, Real fallback, const std::string& what, const Range& range = {}) const;
+  int integer(const std::string& key, const std::string& what, const Range& range) const;
+  int integer_or(const std::string& key, int fallback, const std::string& what, const Range& range) const;
   std::string string(const std::string& key, const std::string& what) const;
   std::string string_or(const std::string& key, const std::string& fallback, const std::string& what) const;
   bool boolean_or(const std::string& key, bool fallback, const std::string& what) const;
-  Vec3 vec3(const std::string& key, const std::string& what) const;
-  Vec3 vec3_or(const std::string& key, const Vec3& fallback, const std::string& what) const;
+  // Three finite numbers, each inside `range`.
+  Vec3 vec3(const std::string& key, const std::string& what, const Range& range = {}) const;
+  Vec3 vec3_or(const std::string& key, const Vec3& fallback, const std::string& what, const Range& range = {}) const;
+  // A 0-based, half-open index range [first, end] of two integers, 0 <= first < end <= `max_end`.
+  std::pair<int, int> index_range(const std::string& key, const std::string& what, int max_end) const;
   // Names of the sub-tables of `key` (e.g. the labels under [bc]).
   std::vector<std::string> subtables(const std::string& key) const;
   // Number of tables in an array of tables ([[periodic]]).

@@ -1,27 +1,58 @@
 #include "io/monitors.hpp"
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
+#include <sstream>
 
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "io/text_file.hpp"
 #include "version.hpp"
 
 namespace narwhal {
 
-HistoryWriter::HistoryWriter(const std::string& path, const std::vector<std::string>& groups, bool append,
-                             const std::vector<std::string>& turbulence)
-    : groups_(groups), turbulence_(turbulence.size()) {
-  const bool existed = append && std::filesystem::exists(path);
-  file_ = std::fopen(path.c_str(), existed ? "a" : "w");
-  if (!file_) fail("cannot write '{}'", path);
-  if (!existed) {
-    fmt::print(file_, "iteration,wall_s,cfl,res_p,res_u,res_v,res_w");
-    for (const auto& t : turbulence) fmt::print(file_, ",res_{}", t);
-    for (const auto& g : groups_)
-      for (const char* c : {"cfx", "cfy", "cfz", "cmx", "cmy", "cmz"}) fmt::print(file_, ",{}_{}", g, c);
-    fmt::print(file_, "\n");
+std::string history_header(const std::vector<std::string>& groups, const std::vector<std::string>& turbulence) {
+  std::string h = "iteration,wall_s,cfl,res_p,res_u,res_v,res_w";
+  for (const auto& t : turbulence) h += ",res_" + t;
+  for (const auto& g : groups)
+    for (const char* c : {"cfx", "cfy", "cfz", "cmx", "cmy", "cmz"}) h += fmt::format(",{}_{}", g, c);
+  return h + "\n";
+}
+
+namespace {
+
+// The rows of an existing history that a run resuming after `iteration` keeps.
+std::string history_kept(const std::string& path, const std::string& header, int iteration) {
+  const std::string text = read_text_file(path);
+  if (text.compare(0, header.size(), header) != 0)
+    fail("cannot continue '{}': its columns are not this run's (another case or turbulence model wrote it)", path);
+  const auto fields = std::count(header.begin(), header.end(), ',') + 1;
+  std::string kept = header;
+  int last = 0;
+  std::size_t at = header.size();
+  for (std::size_t end; (end = text.find('\n', at)) != std::string::npos; at = end + 1) {
+    const std::string line = text.substr(at, end - at);
+    const int it = std::atoi(line.c_str());
+    // Complete rows only: a row cut by a kill has fewer fields.
+    if (std::count(line.begin(), line.end(), ',') + 1 != fields || it <= last || it > iteration) continue;
+    kept += line + "\n";
+    last = it;
   }
+  return kept;
+}
+
+}  // namespace
+
+HistoryWriter::HistoryWriter(const std::string& path, const std::vector<std::string>& groups,
+                             const std::vector<std::string>& turbulence, std::optional<int> resume_after)
+    : path_(path), groups_(groups), turbulence_(turbulence.size()) {
+  const std::string header = history_header(groups, turbulence);
+  const bool resume = resume_after && std::filesystem::exists(path);
+  write_file_atomically(path, resume ? history_kept(path, header, *resume_after) : header);
+  file_ = std::fopen(path.c_str(), "a");
+  if (!file_) fail("cannot write '{}': {}", path, std::strerror(errno));
 }
 
 HistoryWriter::~HistoryWriter() {
@@ -31,29 +62,35 @@ HistoryWriter::~HistoryWriter() {
 void HistoryWriter::write(int iteration, Real wall_seconds, const IterationNorms& n,
                           const std::map<std::string, ForceCoefficients>& forces, const std::vector<Real>& turbulence) {
   // Full precision: restart equality compares these rows.
-  fmt::print(file_, "{},{:.6f},{:.6e},{:.17g},{:.17g},{:.17g},{:.17g}", iteration, wall_seconds, n.cfl, n.l2[0],
-             n.l2[1], n.l2[2], n.l2[3]);
-  for (std::size_t m = 0; m < turbulence_; ++m) fmt::print(file_, ",{:.17g}", m < turbulence.size() ? turbulence[m] : 0.0);
+  std::string row = fmt::format("{},{:.6f},{:.6e},{:.17g},{:.17g},{:.17g},{:.17g}", iteration, wall_seconds, n.cfl,
+                                n.l2[0], n.l2[1], n.l2[2], n.l2[3]);
+  for (std::size_t m = 0; m < turbulence_; ++m) row += fmt::format(",{:.17g}", m < turbulence.size() ? turbulence[m] : 0.0);
   for (const auto& g : groups_) {
     const auto& c = forces.at(g);
-    fmt::print(file_, ",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", c.force[0], c.force[1], c.force[2],
-               c.moment[0], c.moment[1], c.moment[2]);
+    row += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", c.force[0], c.force[1], c.force[2],
+                       c.moment[0], c.moment[1], c.moment[2]);
   }
-  fmt::print(file_, "\n");
+  row += "\n";
+  // One write per row, flushed at once: a killed run leaves whole rows (and at most
+  // one torn last row, which a resumed run drops).
+  if (std::fwrite(row.data(), 1, row.size(), file_) != row.size() || std::fflush(file_) != 0)
+    fail("cannot write '{}': {}", path_, std::strerror(errno));
 }
 
-void HistoryWriter::flush() { std::fflush(file_); }
-
 void write_surface_csv(const std::string& path, const std::vector<WallFace>& faces) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) fail("cannot write '{}'", path);
-  fmt::print(f, "# narwhal {} ({}); one row per wall face; n points into the fluid; cp = 2p, cf = 2 tau_w\n",
-             kVersion, kGitSha);
-  fmt::print(f, "x,y,z,nx,ny,nz,area,cp,cf_x,cf_y,cf_z,y_plus\n");
-  for (const auto& w : faces)
-    fmt::print(f, "{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.6e}\n",
-               w.x[0], w.x[1], w.x[2], w.n[0], w.n[1], w.n[2], w.area, w.cp, w.cf[0], w.cf[1], w.cf[2], w.y_plus);
-  std::fclose(f);
+  std::string out = fmt::format(
+      "# narwhal {} ({}); one row per wall face; n points into the fluid; cp = 2p, cf = 2 tau_w; "
+      "cf_signed = |cf| with the sign of cf_x\n",
+      kVersion, kGitSha);
+  out += "x,y,z,nx,ny,nz,area,cp,cf_x,cf_y,cf_z,cf_signed,y_plus\n";
+  for (const auto& w : faces) {
+    const Real cf_signed = std::copysign(w.cf.norm(), w.cf[0]);
+    out += fmt::format("{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},"
+                       "{:.6e}\n",
+                       w.x[0], w.x[1], w.x[2], w.n[0], w.n[1], w.n[2], w.area, w.cp, w.cf[0], w.cf[1], w.cf[2],
+                       cf_signed, w.y_plus);
+  }
+  write_file_atomically(path, out);
 }
 
 }  // namespace narwhal

@@ -3,6 +3,7 @@
 // iteration) and surface_<group>.csv (one row per wall face).
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,23 +14,32 @@ namespace narwhal {
 
 class HistoryWriter {
  public:
-  // Appends to an existing file when `append` (restarted runs keep one history).
+  // A new history.csv, or with `resume_after` (a run continuing from a restart written
+  // at that iteration) the existing one cut back to its complete rows up to that
+  // iteration — rows written after the checkpoint by a killed run, and a torn last
+  // line, are dropped — so the continued history has each iteration once, in order.
   // `turbulence`: names of the turbulence model's variables (a residual column each).
-  HistoryWriter(const std::string& path, const std::vector<std::string>& groups, bool append,
-                const std::vector<std::string>& turbulence = {});
+  HistoryWriter(const std::string& path, const std::vector<std::string>& groups,
+                const std::vector<std::string>& turbulence, std::optional<int> resume_after);
   ~HistoryWriter();
   HistoryWriter(const HistoryWriter&) = delete;
   HistoryWriter& operator=(const HistoryWriter&) = delete;
+  // One row, written and flushed as a whole; a failed write is an Error naming the file.
   void write(int iteration, Real wall_seconds, const IterationNorms& n,
              const std::map<std::string, ForceCoefficients>& forces, const std::vector<Real>& turbulence = {});
-  void flush();
 
  private:
+  std::string path_;
   std::FILE* file_ = nullptr;
   std::vector<std::string> groups_;
   std::size_t turbulence_ = 0;
 };
 
+// The first line of history.csv for these wall groups and turbulence variables.
+std::string history_header(const std::vector<std::string>& groups, const std::vector<std::string>& turbulence);
+
+// Written whole or not at all (io/text_file.hpp).
+// cf_signed: |tau_w| with the sign of its x component, as NASA TMR reports Cf.
 void write_surface_csv(const std::string& path, const std::vector<WallFace>& faces);
 
 }  // namespace narwhal

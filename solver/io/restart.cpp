@@ -1,9 +1,17 @@
 #include "io/restart.hpp"
 
+#include <fcntl.h>
 #include <hdf5.h>
+#include <unistd.h>
+#include <zlib.h>
 
-#include <cstdio>
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <vector>
 
 #include "core/error.hpp"
@@ -12,34 +20,267 @@
 namespace narwhal {
 namespace {
 
-void write_string_attr(hid_t obj, const char* name, const std::string& value) {
-  hid_t type = H5Tcopy(H5T_C_S1);
+constexpr const char* kFormat = "narwhal-restart-2";
+constexpr std::size_t kUserBlock = 4096;  // HDF5 user blocks are powers of two >= 512
+constexpr std::size_t kMaxChunks = 400;   // keeps the CRC list inside the user block
+
+// ---- checksums over the bytes after the user block --------------------------------
+
+std::size_t chunk_size_for(std::size_t payload) {
+  const std::size_t min_chunk = 64 * 1024;
+  const std::size_t c = (payload + kMaxChunks - 1) / kMaxChunks;
+  return std::max(min_chunk, (c + 4095) / 4096 * 4096);
+}
+
+std::vector<uLong> chunk_crcs(const std::vector<char>& bytes, std::size_t chunk) {
+  std::vector<uLong> crcs;
+  for (std::size_t at = kUserBlock; at < bytes.size(); at += chunk) {
+    const std::size_t n = std::min(chunk, bytes.size() - at);
+    crcs.push_back(crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(bytes.data() + at), static_cast<uInt>(n)));
+  }
+  return crcs;
+}
+
+std::vector<char> read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail("restart file '{}' cannot be opened", path);
+  return std::vector<char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::string header_text(std::size_t file_size, std::size_t chunk, const std::vector<uLong>& crcs) {
+  std::string h = fmt::format("{}\nbytes {}\nchunk {}\ncrc32", kFormat, file_size, chunk);
+  for (uLong c : crcs) h += fmt::format(" {:08x}", c);
+  h += "\n";
+  return h;
+}
+
+void verify(const std::string& path, const std::vector<char>& bytes) {
+  if (bytes.size() < kUserBlock)
+    fail("restart '{}': {} bytes, shorter than its {}-byte header: truncated or not a narwhal restart", path,
+         bytes.size(), kUserBlock);
+  const auto end = std::find(bytes.begin(), bytes.begin() + kUserBlock, '\0');
+  const std::string header(bytes.begin(), end);
+  std::istringstream in(header);
+  std::string format, w_bytes, w_chunk, w_crc;
+  std::size_t size = 0, chunk = 0;
+  std::getline(in, format);
+  if (format != kFormat)
+    fail("restart '{}': byte 0: not a {} file (first line '{}'); restarts from other formats or versions are "
+         "not read", path, kFormat, format.substr(0, 40));
+  if (!(in >> w_bytes >> size >> w_chunk >> chunk >> w_crc) || w_bytes != "bytes" || w_chunk != "chunk" ||
+      w_crc != "crc32" || chunk == 0)
+    fail("restart '{}': the checksum header (bytes 0 to {}) is corrupt", path, kUserBlock - 1);
+  if (size != bytes.size())
+    fail("restart '{}': the file has {} bytes, its header says {}: truncated or appended to", path, bytes.size(), size);
+  std::vector<uLong> stored;
+  for (std::string word; in >> word;) {
+    uLong v = 0;
+    std::size_t used = 0;
+    try {
+      v = std::stoul(word, &used, 16);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (word.size() != 8 || used != 8) fail("restart '{}': the checksum header is corrupt (entry '{}')", path, word);
+    stored.push_back(v);
+  }
+  if (header.back() != '\n') fail("restart '{}': the checksum header is corrupt (no final line end)", path);
+  for (auto it = end; it != bytes.begin() + kUserBlock; ++it)
+    if (*it != '\0')
+      fail("restart '{}': byte {} of the header block is not zero: the file is corrupt", path, it - bytes.begin());
+  const std::vector<uLong> computed = chunk_crcs(bytes, chunk);
+  if (computed.size() != stored.size())
+    fail("restart '{}': the header lists {} checksums for {} chunks: the file is corrupt", path, stored.size(),
+         computed.size());
+  for (std::size_t c = 0; c < computed.size(); ++c)
+    if (computed[c] != stored[c]) {
+      const std::size_t lo = kUserBlock + c * chunk, hi = std::min(bytes.size(), lo + chunk) - 1;
+      fail("restart '{}': bytes {} to {} do not match their checksum: the file is corrupt", path, lo, hi);
+    }
+}
+
+// ---- HDF5 helpers: every call checked, errors name the file and the object --------
+
+struct Hid {  // closes an HDF5 handle on scope exit
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~Hid() {
+    if (id >= 0) close(id);
+  }
+  operator hid_t() const { return id; }
+};
+
+void write_string_attr(const std::string& path, hid_t obj, const char* name, const std::string& value) {
+  Hid type{H5Tcopy(H5T_C_S1), H5Tclose};
   H5Tset_size(type, std::max<std::size_t>(1, value.size()));
-  hid_t space = H5Screate(H5S_SCALAR);
-  hid_t attr = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-  H5Awrite(attr, type, value.empty() ? "" : value.c_str());
-  H5Aclose(attr);
-  H5Sclose(space);
-  H5Tclose(type);
+  Hid space{H5Screate(H5S_SCALAR), H5Sclose};
+  Hid attr{H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+  if (attr < 0 || H5Awrite(attr, type, value.empty() ? "" : value.c_str()) < 0)
+    fail("cannot write attribute '{}' of restart file '{}'", name, path);
+}
+
+std::string read_string_attr(const std::string& path, hid_t obj, const char* name) {
+  if (H5Aexists(obj, name) <= 0) fail("restart '{}': attribute '{}' is missing", path, name);
+  Hid attr{H5Aopen(obj, name, H5P_DEFAULT), H5Aclose};
+  Hid type{H5Aget_type(attr), H5Tclose};
+  if (H5Tget_class(type) != H5T_STRING) fail("restart '{}': attribute '{}' is not a string", path, name);
+  std::string v(H5Tget_size(type), '\0');
+  if (H5Aread(attr, type, v.data()) < 0) fail("restart '{}': attribute '{}' cannot be read", path, name);
+  v.erase(std::find(v.begin(), v.end(), '\0'), v.end());
+  return v;
 }
 
 template <class T>
-void write_scalar_attr(hid_t obj, const char* name, hid_t type, T value) {
-  hid_t space = H5Screate(H5S_SCALAR);
-  hid_t attr = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-  H5Awrite(attr, type, &value);
-  H5Aclose(attr);
-  H5Sclose(space);
+void write_scalar_attr(const std::string& path, hid_t obj, const char* name, hid_t type, T value) {
+  Hid space{H5Screate(H5S_SCALAR), H5Sclose};
+  Hid attr{H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+  if (attr < 0 || H5Awrite(attr, type, &value) < 0) fail("cannot write attribute '{}' of restart file '{}'", name, path);
 }
 
 template <class T>
-T read_scalar_attr(hid_t obj, const char* name, hid_t type, const std::string& path) {
+T read_scalar_attr(const std::string& path, hid_t obj, const char* name, hid_t type) {
   if (H5Aexists(obj, name) <= 0) fail("restart '{}': attribute '{}' is missing", path, name);
   T v{};
-  hid_t attr = H5Aopen(obj, name, H5P_DEFAULT);
-  H5Aread(attr, type, &v);
-  H5Aclose(attr);
+  Hid attr{H5Aopen(obj, name, H5P_DEFAULT), H5Aclose};
+  Hid space{H5Aget_space(attr), H5Sclose};
+  if (H5Sget_simple_extent_npoints(space) != 1 || H5Aread(attr, type, &v) < 0)
+    fail("restart '{}': attribute '{}' cannot be read as one value", path, name);
   return v;
+}
+
+void write_dataset(const std::string& path, hid_t grp, const char* name, const std::vector<hsize_t>& dims,
+                   const double* data) {
+  Hid space{H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose};
+  Hid ds{H5Dcreate2(grp, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
+  if (ds < 0 || H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+    fail("cannot write dataset '{}' of restart file '{}'", name, path);
+}
+
+// Reads a double dataset after checking that its shape is `dims`.
+void read_dataset(const std::string& path, hid_t file, const std::string& name, const std::vector<hsize_t>& dims,
+                  std::vector<double>& out) {
+  if (H5Lexists(file, name.c_str(), H5P_DEFAULT) <= 0) fail("restart '{}': dataset '{}' is missing", path, name);
+  Hid ds{H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose};
+  Hid space{H5Dget_space(ds), H5Sclose};
+  const int rank = H5Sget_simple_extent_ndims(space);
+  std::vector<hsize_t> have(static_cast<std::size_t>(std::max(rank, 0)));
+  if (rank > 0) H5Sget_simple_extent_dims(space, have.data(), nullptr);
+  auto shape = [](const std::vector<hsize_t>& d) {
+    std::string s;
+    for (hsize_t x : d) {
+      if (!s.empty()) s += 'x';
+      s += std::to_string(x);
+    }
+    return s;
+  };
+  if (have != dims)
+    fail("restart '{}': dataset '{}' has shape {}, this run needs {}", path, name, shape(have), shape(dims));
+  std::size_t n = 1;
+  for (hsize_t x : dims) n *= x;
+  out.resize(n);
+  if (H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+    fail("restart '{}': dataset '{}' cannot be read", path, name);
+}
+
+void write_text_dataset(const std::string& path, hid_t file, const char* name, const std::string& text) {
+  // A dataset, not an attribute: attributes are limited to 64 KiB, case files are not.
+  Hid type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type, std::max<std::size_t>(1, text.size()));
+  Hid space{H5Screate(H5S_SCALAR), H5Sclose};
+  Hid ds{H5Dcreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
+  if (ds < 0 || H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.empty() ? "" : text.c_str()) < 0)
+    fail("cannot write dataset '{}' of restart file '{}'", name, path);
+}
+
+// Bounding box of a block's nodes: [xmin, ymin, zmin, xmax, ymax, zmax].
+std::array<double, 6> extent(const Block& b) {
+  std::array<double, 6> e{1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
+  for (int k = 0; k <= b.nk; ++k)
+    for (int j = 0; j <= b.nj; ++j)
+      for (int i = 0; i <= b.ni; ++i)
+        for (int d = 0; d < 3; ++d) {
+          e[d] = std::min(e[d], b.x(i, j, k)[d]);
+          e[3 + d] = std::max(e[3 + d], b.x(i, j, k)[d]);
+        }
+  return e;
+}
+
+template <class State, int N>
+void pack(const Block& b, const GhostArray<State>& a, std::vector<double>& buf) {
+  buf.clear();
+  for (int k = 0; k < b.nk; ++k)
+    for (int j = 0; j < b.nj; ++j)
+      for (int i = 0; i < b.ni; ++i)
+        for (int m = 0; m < N; ++m) buf.push_back(a(i, j, k)[m]);
+}
+
+template <class State, int N>
+void unpack(const Block& b, const std::vector<double>& buf, GhostArray<State>& a) {
+  std::size_t n = 0;
+  for (int k = 0; k < b.nk; ++k)
+    for (int j = 0; j < b.nj; ++j)
+      for (int i = 0; i < b.ni; ++i)
+        for (int m = 0; m < N; ++m) a(i, j, k)[m] = buf[n++];
+}
+
+void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, const RestartInfo& info,
+                const std::string& case_text) {
+  Hid fcpl{H5Pcreate(H5P_FILE_CREATE), H5Pclose};
+  H5Pset_userblock(fcpl, kUserBlock);
+  hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+  if (file < 0) fail("cannot create restart file '{}'", path);
+  try {
+    write_string_attr(path, file, "format", kFormat);
+    write_string_attr(path, file, "version", kVersion);
+    write_string_attr(path, file, "git_sha", kGitSha);
+    write_string_attr(path, file, "turbulence_model", info.turbulence_model);
+    write_text_dataset(path, file, "case", case_text);
+    write_scalar_attr(path, file, "iteration", H5T_NATIVE_INT, info.iteration);
+    write_scalar_attr(path, file, "reference_norm", H5T_NATIVE_DOUBLE, info.reference_norm);
+    write_scalar_attr(path, file, "wall_seconds", H5T_NATIVE_DOUBLE, info.wall_seconds);
+    write_scalar_attr(path, file, "turbulence_reference_0", H5T_NATIVE_DOUBLE, info.turbulence_reference[0]);
+    write_scalar_attr(path, file, "turbulence_reference_1", H5T_NATIVE_DOUBLE, info.turbulence_reference[1]);
+    write_scalar_attr(path, file, "body_force", H5T_NATIVE_DOUBLE, info.body_force);
+    write_scalar_attr(path, file, "block_count", H5T_NATIVE_INT, static_cast<int>(g.blocks.size()));
+    write_scalar_attr(path, file, "turbulence_variables", H5T_NATIVE_INT, f.turb.empty() ? 0 : 2);
+    Hid blocks{H5Gcreate2(file, "blocks", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+    std::vector<double> buf;
+    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+      const Block& b = g.blocks[ib];
+      Hid grp{H5Gcreate2(blocks, b.name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+      if (grp < 0) fail("cannot write block '{}' of restart file '{}'", b.name, path);
+      const std::array<double, 6> e = extent(b);
+      write_dataset(path, grp, "extent", {6}, e.data());
+      // Q[k][j][i][eq] (C order, i fastest among cells, equations innermost).
+      const std::vector<hsize_t> dims{static_cast<hsize_t>(b.nk), static_cast<hsize_t>(b.nj),
+                                      static_cast<hsize_t>(b.ni), kNumEq};
+      pack<State, kNumEq>(b, f.Q[ib], buf);
+      write_dataset(path, grp, "Q", dims, buf.data());
+      if (!f.turb.empty()) {  // turbulence model variables T[k][j][i][2]
+        pack<TurbState, 2>(b, f.turb[ib], buf);
+        write_dataset(path, grp, "turbulence", {dims[0], dims[1], dims[2], 2}, buf.data());
+      }
+    }
+  } catch (...) {
+    H5Fclose(file);
+    throw;
+  }
+  if (H5Fclose(file) < 0) fail("error closing restart file '{}' (disk full?)", path);
+}
+
+void stamp_checksums(const std::string& path) {
+  const std::vector<char> bytes = read_bytes(path);
+  const std::size_t chunk = chunk_size_for(bytes.size() - kUserBlock);
+  const std::string h = header_text(bytes.size(), chunk, chunk_crcs(bytes, chunk));
+  if (h.size() >= kUserBlock) fail("restart '{}': checksum header too long", path);
+  const int fd = ::open(path.c_str(), O_WRONLY);
+  if (fd < 0) fail("cannot open restart file '{}' to stamp its checksums: {}", path, std::strerror(errno));
+  std::string block(kUserBlock, '\0');
+  std::copy(h.begin(), h.end(), block.begin());
+  const bool ok = ::pwrite(fd, block.data(), block.size(), 0) == static_cast<ssize_t>(block.size()) && ::fsync(fd) == 0;
+  const int err = errno;
+  ::close(fd);
+  if (!ok) fail("cannot write restart file '{}': {}", path, std::strerror(err));
 }
 
 }  // namespace
@@ -47,113 +288,71 @@ T read_scalar_attr(hid_t obj, const char* name, hid_t type, const std::string& p
 void write_restart(const std::string& path, const Grid& g, const FlowField& f, const RestartInfo& info,
                    const std::string& case_text) {
   const std::string tmp = path + ".tmp";
-  hid_t file = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (file < 0) fail("cannot create restart file '{}'", tmp);
-  write_string_attr(file, "format", "narwhal-restart-1");
-  write_string_attr(file, "version", kVersion);
-  write_string_attr(file, "git_sha", kGitSha);
-  write_string_attr(file, "case", case_text);
-  write_scalar_attr(file, "iteration", H5T_NATIVE_INT, info.iteration);
-  write_scalar_attr(file, "reference_norm", H5T_NATIVE_DOUBLE, info.reference_norm);
-  write_scalar_attr(file, "wall_seconds", H5T_NATIVE_DOUBLE, info.wall_seconds);
-  write_scalar_attr(file, "turbulence_reference_0", H5T_NATIVE_DOUBLE, info.turbulence_reference[0]);
-  write_scalar_attr(file, "turbulence_reference_1", H5T_NATIVE_DOUBLE, info.turbulence_reference[1]);
-  write_scalar_attr(file, "body_force", H5T_NATIVE_DOUBLE, info.body_force);
-  hid_t blocks = H5Gcreate2(file, "blocks", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  std::vector<double> buf;
-  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
-    const Block& b = g.blocks[ib];
-    hid_t grp = H5Gcreate2(blocks, b.name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    // Dataset Q[k][j][i][eq] (C order, i fastest among cells, equations innermost).
-    hsize_t dims[4] = {static_cast<hsize_t>(b.nk), static_cast<hsize_t>(b.nj), static_cast<hsize_t>(b.ni), kNumEq};
-    buf.clear();
-    for (int k = 0; k < b.nk; ++k)
-      for (int j = 0; j < b.nj; ++j)
-        for (int i = 0; i < b.ni; ++i)
-          for (int m = 0; m < kNumEq; ++m) buf.push_back(f.Q[ib](i, j, k)[m]);
-    hid_t space = H5Screate_simple(4, dims, nullptr);
-    hid_t ds = H5Dcreate2(grp, "Q", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data());
-    write_string_attr(ds, "variables", "p,u,v,w");
-    H5Dclose(ds);
-    H5Sclose(space);
-    if (!f.turb.empty()) {  // turbulence model variables T[k][j][i][2]
-      hsize_t tdims[4] = {dims[0], dims[1], dims[2], 2};
-      buf.clear();
-      for (int k = 0; k < b.nk; ++k)
-        for (int j = 0; j < b.nj; ++j)
-          for (int i = 0; i < b.ni; ++i)
-            for (int m = 0; m < 2; ++m) buf.push_back(f.turb[ib](i, j, k)[m]);
-      space = H5Screate_simple(4, tdims, nullptr);
-      ds = H5Dcreate2(grp, "turbulence", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-      H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data());
-      H5Dclose(ds);
-      H5Sclose(space);
-    }
-    H5Gclose(grp);
-  }
-  H5Gclose(blocks);
-  if (H5Fclose(file) < 0) fail("error closing restart file '{}'", tmp);
-  std::filesystem::rename(tmp, path);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // failures are reported as Errors, not HDF5 stacks
+  write_hdf5(tmp, g, f, info, case_text);
+  stamp_checksums(tmp);
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) fail("cannot move restart file '{}' to '{}': {}", tmp, path, ec.message());
 }
 
-RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f) {
-  if (!std::filesystem::exists(path)) fail("restart file '{}' does not exist", path);
+void verify_restart_checksums(const std::string& path) { verify(path, read_bytes(path)); }
+
+RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, const std::string& turbulence_model) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) fail("restart file '{}' does not exist or is not a file", path);
+  verify_restart_checksums(path);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  Hid file{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
   if (file < 0) fail("restart file '{}' is not a readable HDF5 file", path);
   RestartInfo info;
-  info.iteration = read_scalar_attr<int>(file, "iteration", H5T_NATIVE_INT, path);
-  info.reference_norm = read_scalar_attr<double>(file, "reference_norm", H5T_NATIVE_DOUBLE, path);
-  info.wall_seconds = read_scalar_attr<double>(file, "wall_seconds", H5T_NATIVE_DOUBLE, path);
-  if (H5Aexists(file, "body_force") > 0)
-    info.body_force = read_scalar_attr<double>(file, "body_force", H5T_NATIVE_DOUBLE, path);
-  if (H5Aexists(file, "turbulence_reference_0") > 0) {
-    info.turbulence_reference[0] = read_scalar_attr<double>(file, "turbulence_reference_0", H5T_NATIVE_DOUBLE, path);
-    info.turbulence_reference[1] = read_scalar_attr<double>(file, "turbulence_reference_1", H5T_NATIVE_DOUBLE, path);
+  info.turbulence_model = read_string_attr(path, file, "turbulence_model");
+  if (info.turbulence_model != turbulence_model)
+    fail("restart '{}' was written by a run with turbulence model '{}'; this run uses '{}'", path,
+         info.turbulence_model, turbulence_model);
+  info.iteration = read_scalar_attr<int>(path, file, "iteration", H5T_NATIVE_INT);
+  if (info.iteration < 0) fail("restart '{}': attribute 'iteration' is negative ({})", path, info.iteration);
+  info.reference_norm = read_scalar_attr<double>(path, file, "reference_norm", H5T_NATIVE_DOUBLE);
+  info.wall_seconds = read_scalar_attr<double>(path, file, "wall_seconds", H5T_NATIVE_DOUBLE);
+  info.body_force = read_scalar_attr<double>(path, file, "body_force", H5T_NATIVE_DOUBLE);
+  info.turbulence_reference[0] = read_scalar_attr<double>(path, file, "turbulence_reference_0", H5T_NATIVE_DOUBLE);
+  info.turbulence_reference[1] = read_scalar_attr<double>(path, file, "turbulence_reference_1", H5T_NATIVE_DOUBLE);
+  const int blocks = read_scalar_attr<int>(path, file, "block_count", H5T_NATIVE_INT);
+  if (blocks != static_cast<int>(g.blocks.size()))
+    fail("restart '{}' holds {} block(s); this run's grid has {}: it was written for another grid", path, blocks,
+         g.blocks.size());
+  // Transport models keep two variables per cell; algebraic ones (Baldwin-Lomax) none.
+  const int variables = read_scalar_attr<int>(path, file, "turbulence_variables", H5T_NATIVE_INT);
+  if (variables != 0 && variables != 2)
+    fail("restart '{}': attribute 'turbulence_variables' is {}, expected 0 or 2", path, variables);
+  const bool turbulent = variables == 2;
+  if (turbulent && f.turb.size() != g.blocks.size()) {
+    f.turb.clear();
+    for (const Block& b : g.blocks) f.turb.emplace_back(b.ni, b.nj, b.nk, kGhost, TurbState::Zero());
   }
   std::vector<double> buf;
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
-    const std::string name = "blocks/" + b.name + "/Q";
-    if (H5Lexists(file, "blocks", H5P_DEFAULT) <= 0 ||
-        H5Lexists(file, ("blocks/" + b.name).c_str(), H5P_DEFAULT) <= 0)
+    const std::string grp = "blocks/" + b.name;
+    if (H5Lexists(file, "blocks", H5P_DEFAULT) <= 0 || H5Lexists(file, grp.c_str(), H5P_DEFAULT) <= 0)
       fail("restart '{}' has no block '{}': it was written for another grid", path, b.name);
-    hid_t ds = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-    hid_t space = H5Dget_space(ds);
-    hsize_t dims[4] = {0, 0, 0, 0};
-    H5Sget_simple_extent_dims(space, dims, nullptr);
-    if (dims[0] != static_cast<hsize_t>(b.nk) || dims[1] != static_cast<hsize_t>(b.nj) ||
-        dims[2] != static_cast<hsize_t>(b.ni) || dims[3] != kNumEq)
-      fail("restart '{}': block '{}' has {}x{}x{} cells, the grid {}x{}x{}", path, b.name, dims[2], dims[1], dims[0],
-           b.ni, b.nj, b.nk);
-    buf.resize(b.cells() * kNumEq);
-    H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data());
-    H5Sclose(space);
-    H5Dclose(ds);
-    std::size_t n = 0;
-    for (int k = 0; k < b.nk; ++k)
-      for (int j = 0; j < b.nj; ++j)
-        for (int i = 0; i < b.ni; ++i)
-          for (int m = 0; m < kNumEq; ++m) f.Q[ib](i, j, k)[m] = buf[n++];
-    const std::string tname = "blocks/" + b.name + "/turbulence";
-    if (H5Lexists(file, tname.c_str(), H5P_DEFAULT) > 0) {
-      if (f.turb.size() != g.blocks.size()) {
-        f.turb.clear();
-        for (const Block& bb : g.blocks) f.turb.emplace_back(bb.ni, bb.nj, bb.nk, kGhost, TurbState::Zero());
-      }
-      buf.resize(b.cells() * 2);
-      ds = H5Dopen2(file, tname.c_str(), H5P_DEFAULT);
-      H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data());
-      H5Dclose(ds);
-      n = 0;
-      for (int k = 0; k < b.nk; ++k)
-        for (int j = 0; j < b.nj; ++j)
-          for (int i = 0; i < b.ni; ++i)
-            for (int m = 0; m < 2; ++m) f.turb[ib](i, j, k)[m] = buf[n++];
+    read_dataset(path, file, grp + "/extent", {6}, buf);
+    const std::array<double, 6> e = extent(b);
+    const double scale = std::max({e[3] - e[0], e[4] - e[1], e[5] - e[2]});
+    for (int d = 0; d < 6; ++d)
+      if (!(std::abs(buf[d] - e[d]) <= 1e-9 * scale))
+        fail("restart '{}': block '{}' spans [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}], this run's "
+             "block [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}]: it was written for another grid",
+             path, b.name, buf[0], buf[3], buf[1], buf[4], buf[2], buf[5], e[0], e[3], e[1], e[4], e[2], e[5]);
+    const std::vector<hsize_t> dims{static_cast<hsize_t>(b.nk), static_cast<hsize_t>(b.nj),
+                                    static_cast<hsize_t>(b.ni), kNumEq};
+    read_dataset(path, file, grp + "/Q", dims, buf);
+    unpack<State, kNumEq>(b, buf, f.Q[ib]);
+    if (turbulent) {
+      read_dataset(path, file, grp + "/turbulence", {dims[0], dims[1], dims[2], 2}, buf);
+      unpack<TurbState, 2>(b, buf, f.turb[ib]);
     }
   }
-  H5Fclose(file);
   return info;
 }
 

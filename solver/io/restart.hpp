@@ -1,7 +1,14 @@
 #pragma once
 // restart.h5: everything needed to continue a run bit-for-bit (the state of every
 // block, the iteration count, the SER reference norm), with provenance (version,
-// git SHA, the case file text, a grid fingerprint).
+// git SHA, the case file text) and what it was written for (turbulence model,
+// block sizes and extents), all of it guarded by checksums.
+//
+// Layout: an HDF5 file behind a 4 KiB HDF5 user block (h5py and h5dump open it as
+// usual). The user block holds a text header: the format, the file size, a chunk
+// size and the CRC-32 of every chunk of the bytes after the user block. Any change
+// to the file — a flipped byte, a truncation, appended data — is found before HDF5
+// reads a byte of it, and the message says which bytes.
 #include <string>
 
 #include "mesh/block.hpp"
@@ -15,13 +22,21 @@ struct RestartInfo {
   Real wall_seconds = 0.0;
   Real turbulence_reference[2] = {-1.0, -1.0};  // first residuals of the turbulence model's variables
   Real body_force = -1.0;  // magnitude of a flow-rate-controlled body force (< 0: none)
+  std::string turbulence_model = "laminar";
 };
 
-// Writes atomically (temporary file + rename) so a crash never leaves a torn restart.
+// Writes atomically (temporary file + rename) so a crash never leaves a torn restart;
+// any write error (a full disk) is an Error naming the file.
 void write_restart(const std::string& path, const Grid& g, const FlowField& f, const RestartInfo& info,
                    const std::string& case_text);
 
-// Reads the state into `f` (allocated for `g`); the block names and sizes must match.
-RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f);
+// Verifies the checksums, then reads the state into `f` (allocated for `g`). Refused
+// with a message: a corrupt file, another turbulence model than `turbulence_model`,
+// another block count, block names, sizes or extents than `g`.
+RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, const std::string& turbulence_model);
+
+// The checksum layer alone (for tests): throws naming the file and the bytes that
+// do not match, or returns quietly.
+void verify_restart_checksums(const std::string& path);
 
 }  // namespace narwhal

@@ -29,9 +29,17 @@ int parse_side(const std::string& s) {
   return -1;
 }
 
+void check_block_size(const std::string& where, std::int64_t ci, std::int64_t cj, std::int64_t ck) {
+  if (ci < 1 || cj < 1 || ck < 1) fail("{}: cell counts must be >= 1, got {}x{}x{}", where, ci, cj, ck);
+  if (ci > kMaxCellsPerDirection || cj > kMaxCellsPerDirection || ck > kMaxCellsPerDirection)
+    fail("{}: {}x{}x{} cells: at most {} per direction", where, ci, cj, ck, kMaxCellsPerDirection);
+  if (ci * cj * ck > kMaxBlockCells)
+    fail("{}: {}x{}x{} = {} cells: at most {} in one block", where, ci, cj, ck, ci * cj * ck, kMaxBlockCells);
+}
+
 Block::Block(std::string block_name, int ci, int cj, int ck)
     : name(std::move(block_name)), ni(ci), nj(cj), nk(ck) {
-  if (ci < 1 || cj < 1 || ck < 1) fail("block '{}': cell counts must be >= 1, got {}x{}x{}", name, ci, cj, ck);
+  check_block_size(fmt::format("block '{}'", name), ci, cj, ck);
   x.resize(ni + 1, nj + 1, nk + 1, kGhost, Vec3::Zero());
   for (int d = 0; d < 3; ++d) {
     Index3 n = dims();

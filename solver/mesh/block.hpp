@@ -2,6 +2,7 @@
 // Structured block: nodes with two ghost layers, per-face-direction metrics
 // (area vectors, face speeds), cell volumes and centres (NUMERICS §2), and the
 // boundary patches that tile its six faces.
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,6 +13,15 @@
 namespace narwhal {
 
 inline constexpr int kGhost = 2;  // MUSCL needs two ghost layers (§3.7).
+
+// Size limits of one block. Ghost arrays address cells with int strides per row and
+// 64-bit plane offsets; these keep every such product far from overflow, and lie well
+// beyond what one block of a real grid needs (SUBOFF blocks have a few hundred cells
+// per direction). A grid file or case asking for more is refused before allocating.
+inline constexpr int kMaxCellsPerDirection = 1 << 16;
+inline constexpr std::int64_t kMaxBlockCells = std::int64_t{1} << 28;
+// Throws an Error naming `where` unless ci x cj x ck cells is a valid block size.
+void check_block_size(const std::string& where, std::int64_t ci, std::int64_t cj, std::int64_t ck);
 
 enum class BcType { Wall, Farfield, Inflow, Outflow, Symmetry, Dirichlet, Interface };
 

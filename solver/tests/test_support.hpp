@@ -1,5 +1,8 @@
 #pragma once
 // Helpers shared by the solver tests: small grids, converged runs, CSV reading.
+#include <stdlib.h>
+
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -14,6 +17,14 @@
 #include "mesh/setup.hpp"
 
 namespace narwhal::test {
+
+// A new, empty directory of its own under the system temporary directory: two test
+// runs at the same time never write into each other's paths.
+inline std::filesystem::path fresh_temp_dir(const std::string& stem) {
+  std::string pattern = (std::filesystem::temp_directory_path() / (stem + "_XXXXXX")).string();
+  if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed for " + pattern);
+  return pattern;
+}
 
 inline std::string source_path(const std::string& rel) { return std::string(NARWHAL_SOURCE_DIR) + "/" + rel; }
 

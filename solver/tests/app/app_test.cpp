@@ -92,7 +92,7 @@ TEST(CaseErrors, MissingGridFileIsNamed) {
 TEST(CaseErrors, TruncatedPlot3dIsReported) {
   Grid g;
   g.blocks.push_back(make_box("b", uniform_nodes(0, 1, 4), uniform_nodes(0, 1, 3), uniform_nodes(0, 1, 2)));
-  const fs::path dir = fs::temp_directory_path() / "narwhal_p3d";
+  const fs::path dir = test::fresh_temp_dir("narwhal_p3d");
   fs::create_directories(dir);
   for (bool ascii : {true, false}) {
     const std::string path = (dir / (ascii ? "g.x" : "g.xyz")).string();
@@ -118,7 +118,7 @@ TEST(Plot3d, RawCBinaryMultiBlockRoundTrip) {
   std::vector<Block> blocks;
   blocks.push_back(make_box("a", uniform_nodes(0, 1, 3), uniform_nodes(0, 1, 2), uniform_nodes(0, 1, 2)));
   blocks.push_back(make_box("b", uniform_nodes(1, 2, 2), uniform_nodes(0, 1, 2), uniform_nodes(0, 1, 2)));
-  const std::string path = (fs::temp_directory_path() / "narwhal_raw.xyz").string();
+  const std::string path = (test::fresh_temp_dir("narwhal_raw") / "grid.xyz").string();
   {
     std::ofstream out(path, std::ios::binary);
     auto w32 = [&](int32_t v) { out.write(reinterpret_cast<const char*>(&v), 4); };
@@ -160,7 +160,7 @@ CaseConfig small_plate() {
 // Runs `total` iterations uninterrupted and `first` + the rest from restart.h5; the
 // two histories must agree to the last digit.
 void expect_restart_reproduces_history(const CaseConfig& c, const std::string& name, int total, int first_part) {
-  const fs::path dir = fs::temp_directory_path() / name;
+  const fs::path dir = test::fresh_temp_dir(name);
   fs::remove_all(dir);
   RunOptions full;
   full.out_dir = (dir / "full").string();
@@ -232,7 +232,7 @@ TEST(Robustness, DivergingRunStopsAndKeepsTheLastGoodRestart) {
   c.flow.beta = 1e-12;
   c.solver.newton.cfl_start = 1e8;
   c.solver.newton.cfl_max = 1e12;
-  const fs::path dir = fs::temp_directory_path() / "narwhal_diverge_test";
+  const fs::path dir = test::fresh_temp_dir("narwhal_diverge_test");
   fs::remove_all(dir);
   RunOptions o;
   o.out_dir = dir.string();
@@ -244,11 +244,11 @@ TEST(Robustness, DivergingRunStopsAndKeepsTheLastGoodRestart) {
   const std::string json = slurp((dir / "run.json").string());
   EXPECT_NE(json.find("\"status\": \"diverged\""), std::string::npos);
   // The kept restart is the last finite state, written before the blow-up.
-  EXPECT_NE(s.message.find("last good restart.h5 is kept"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("last good restart.h5 (iteration"), std::string::npos) << s.message;
   Grid g = build_grid(c);
   FlowField f;
   f.allocate(g, flow_params(c), c.initial);
-  const RestartInfo info = read_restart((dir / "restart.h5").string(), g, f);
+  const RestartInfo info = read_restart((dir / "restart.h5").string(), g, f, "laminar");
   EXPECT_GE(info.iteration, 2);
   EXPECT_LE(info.iteration, s.iterations);  // s.iterations counts completed iterations
   for (const auto& q : f.Q[0].raw()) EXPECT_TRUE(q.allFinite());
@@ -260,7 +260,7 @@ TEST(Robustness, ResidualBlowUpNamesTheWorstCell) {
   CaseConfig c = small_plate();
   c.solver.divergence_factor = 0.5;
   RunOptions o;
-  o.out_dir = (fs::temp_directory_path() / "narwhal_blowup_test").string();
+  o.out_dir = (test::fresh_temp_dir("narwhal_blowup_test")).string();
   o.max_iterations = 3;
   const RunSummary s = run_case(c, o);
   ASSERT_EQ(s.status, RunStatus::Diverged);
@@ -272,7 +272,7 @@ TEST(Outputs, RunWritesTheContractFilesAndCgnscheckAcceptsTheSolution) {
   CaseConfig c = small_plate();
   c.grid.split = {2, 1, 1};
   c.grid.split_rotate = true;
-  const fs::path dir = fs::temp_directory_path() / "narwhal_outputs_test";
+  const fs::path dir = test::fresh_temp_dir("narwhal_outputs_test");
   fs::remove_all(dir);
   RunOptions o;
   o.out_dir = dir.string();

@@ -121,7 +121,7 @@ TEST(Multigrid, RestartWithCyclesReproducesTheUninterruptedHistory) {
                                          "solver.multigrid_levels=3", "solver.multigrid_cycle=\"W\""};
   const CaseConfig c = parse_case(text, "mg.toml", ".", sets);
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / "narwhal_mg_restart";
+  const fs::path dir = test::fresh_temp_dir("narwhal_mg_restart");
   fs::remove_all(dir);
   RunOptions a;
   a.out_dir = (dir / "a").string();

@@ -111,7 +111,7 @@ TEST(Planar, SameConvergedSkinFrictionWithAndWithoutTheShortcut) {
     overrides.push_back(std::string("solver.planar_shortcut=") + on);
     overrides.push_back("solver.multigrid_levels=3");
     const CaseConfig c = load_case(test::source_path(kPlateCase), overrides);
-    const std::string out = (std::filesystem::temp_directory_path() / (std::string("narwhal_planar_") + on)).string();
+    const std::string out = test::fresh_temp_dir(std::string("narwhal_planar_") + on).string();
     std::filesystem::remove_all(out);
     RunOptions opt;
     opt.out_dir = out;

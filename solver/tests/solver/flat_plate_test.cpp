@@ -36,7 +36,7 @@ Blasius blasius_from_reference() {
 TEST(FlatPlate, LaminarSkinFrictionAndDisplacementThicknessMatchBlasius) {
   const std::string case_file = test::source_path("validation/cases/flat_plate_laminar/flat_plate.toml");
   const CaseConfig c = load_case(case_file);
-  const std::string out = (std::filesystem::temp_directory_path() / "narwhal_flat_plate_test").string();
+  const std::string out = (test::fresh_temp_dir("narwhal_flat_plate_test")).string();
   std::filesystem::remove_all(out);
   RunOptions opt;
   opt.out_dir = out;
@@ -70,7 +70,7 @@ TEST(FlatPlate, LaminarSkinFrictionAndDisplacementThicknessMatchBlasius) {
   Grid g = build_grid(c);
   FlowField f;
   f.allocate(g, flow_params(c), c.initial);
-  read_restart(out + "/restart.h5", g, f);
+  read_restart(out + "/restart.h5", g, f, "laminar");
   const Block& b = g.blocks[0];
   // delta* = int_0^ye (1 - u/u_e) dy with y_e = 3 delta99(Blasius) and u_e = u(y_e),
   // interpolated linearly in x between the two columns around x = 0.5.
