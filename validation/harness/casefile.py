@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .errors import HarnessError
+from . import extract as _extractors  # noqa: F401  (registers every extractor with its keys)
+from .schema import check_extract, check_options, check_reference
 
 TIERS = ("quick", "nightly")
 COMPARATORS = ("abs", "rel", "profile_rms", "profile_max", "observed_order", "gci", "restart_equal", "max", "min")
@@ -164,6 +166,12 @@ def load_rung(path):
                   tolerance=r.get("tolerance", float, "a numeric tolerance", required=True),
                   rationale=r.get("rationale", str, "a one-line reason for the tolerance", required=True),
                   options=r.get("options", dict, "a table of comparator options", default={}))
+        try:
+            check_extract(c.extract, f"check[{i}].extract")
+            check_reference(c.reference, f"check[{i}].reference")
+            check_options(comp, c.options, f"check[{i}].options")
+        except HarnessError as e:
+            raise HarnessError(f"{path}: {e}")
         if not c.rationale.strip():
             raise HarnessError(f"{path}: key 'check[{i}].rationale': must say why the tolerance is what it is")
         r.finish()

@@ -8,6 +8,7 @@ import numpy as np
 
 from .compare import Curve
 from .errors import HarnessError
+from .schema import extractor
 from .reference import ReferenceFile
 
 
@@ -143,6 +144,7 @@ def _dns_field(ctx, spec):
             "v": mirror(Vg, -1, 1).tolist(), "w": mirror(Wg, 1, -1).tolist()}
 
 
+@extractor("duct_flow", "quantity", "hydraulic_diameter", "threshold", "dns")
 def duct_flow(ctx, spec, run_id):
     """quantity: f_darcy (2 G D_h / U_b^2 with the run's final body force G),
     secondary_max_pct (max in-plane speed / U_b x 100), wall_bisector (U/U_b against

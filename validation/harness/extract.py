@@ -8,9 +8,10 @@ import math
 import numpy as np
 
 from . import exact
-from .duct import duct_flow
+from . import duct  # noqa: F401  (registers duct_flow)
 from .compare import Curve, Family
 from .errors import HarnessError
+from .schema import EXTRACT, Declared, extractor
 from .solution import read_solution
 
 
@@ -72,6 +73,7 @@ def _need(spec, key, what):
     return spec[key]
 
 
+@extractor("surface", "group", "y", "x", "x_min", "x_max")
 def surface(ctx, spec, run_id):
     group = _need(spec, "group", "the wall group")
     path = ctx.run_dir(run_id) / f"surface_{group}.csv"
@@ -88,6 +90,7 @@ def surface(ctx, spec, run_id):
     return Curve(x[keep], y[keep], f"{yn}({xn})")
 
 
+@extractor("surface_at", "group", "y", "x", "at")
 def surface_at(ctx, spec, run_id):
     """One surface column interpolated (linearly in x) to the station `at`."""
     c = surface(ctx, {k: v for k, v in spec.items() if k not in ("x_min", "x_max")}, run_id)
@@ -97,6 +100,7 @@ def surface_at(ctx, spec, run_id):
     return float(np.interp(x0, c.x, c.y))
 
 
+@extractor("wall_units", "x", "reynolds", "group", "yplus_min", "yplus_max")
 def wall_units(ctx, spec, run_id):
     """u+ against y+ at station x of a single-block plate: u_tau = sqrt(|Cf|/2) from the
     wall shear interpolated there (U = 1, rho = 1), y+ = Re u_tau y, u+ = u/u_tau."""
@@ -113,6 +117,7 @@ def wall_units(ctx, spec, run_id):
     return Curve(yp[keep], up[keep], "u+(y+)")
 
 
+@extractor("cf_vs_retheta", "reynolds", "group", "re_min", "re_max")
 def cf_vs_retheta(ctx, spec, run_id):
     """Skin friction against the momentum-thickness Reynolds number along a single-block
     plate: theta = int u/U_e (1 - u/U_e) dy per wall-normal column up to the edge, where
@@ -146,6 +151,7 @@ def cf_vs_retheta(ctx, spec, run_id):
     return Curve(ret[keep], cf[keep], "Cf(Re_theta)")
 
 
+@extractor("run_json", "field")
 def run_json(ctx, spec, run_id):
     with open(ctx.run_dir(run_id) / "run.json") as f:
         data = json.load(f)
@@ -155,6 +161,7 @@ def run_json(ctx, spec, run_id):
     return float(data[field])
 
 
+@extractor("history_last", "column")
 def history_last(ctx, spec, run_id):
     t = read_csv(ctx.run_dir(run_id) / "history.csv")
     col = _need(spec, "column", "a history.csv column")
@@ -165,6 +172,7 @@ def history_last(ctx, spec, run_id):
     return float(t[col][-1])
 
 
+@extractor("field_error", "exact", "params", "variable", "norm", "remove_mean")
 def field_error(ctx, spec, run_id):
     name = _need(spec, "exact", "an exact solution: " + ", ".join(exact.SOLUTIONS))
     if name not in exact.SOLUTIONS:
@@ -202,6 +210,7 @@ def _column_at(zone, x0):
     return y, u, ynode
 
 
+@extractor("boundary_layer", "x", "reynolds", "eta_edge", "quantity", "eta_max")
 def boundary_layer(ctx, spec, run_id):
     """u/U_e against eta = y sqrt(Re/x) at x (a Curve), or the displacement thickness
     delta* = int (1 - u/U_e) dy up to eta_edge, with U_e = u at eta_edge."""
@@ -226,6 +235,7 @@ def boundary_layer(ctx, spec, run_id):
     raise HarnessError("boundary_layer: quantity must be 'profile' or 'displacement_thickness'")
 
 
+@extractor("duct", "quantity", "body_force", "reynolds", "hydraulic_diameter")
 def duct(ctx, spec, run_id):
     """Fully developed duct flow periodic in x: u_max/u_bulk, or f Re with the Darcy
     friction factor f = G D_h / (u_b^2 / 2) from the driving body force G."""
@@ -252,6 +262,7 @@ def duct(ctx, spec, run_id):
     raise HarnessError("duct: quantity must be umax_over_ubulk or f_re")
 
 
+@extractor("history_steadiness", "column", "window")
 def history_steadiness(ctx, spec, run_id):
     """Largest relative change of a history column over the last `window` iterations
     (e.g. a force coefficient: 1e-5 means steady to 5 digits)."""
@@ -269,6 +280,7 @@ def history_steadiness(ctx, spec, run_id):
     return float(np.max(np.abs(v[-window - 1:] - last)) / abs(last))
 
 
+@extractor("history_difference", "run_a", "run_b", "from_iteration")
 def history_difference(ctx, spec, run_id):
     """Largest relative difference between two runs' history rows (wall time excluded),
     over the iterations both have: 0 when a restarted run repeats an uninterrupted one."""
@@ -291,6 +303,7 @@ def history_difference(ctx, spec, run_id):
     return worst
 
 
+@extractor("ratio", "a", "b")
 def ratio(ctx, spec, run_id):
     """Ratio of two scalar extractions, e.g. single-grid over multigrid wall time."""
     a, b = extract(ctx, _need(spec, "a", "the numerator extraction")), extract(ctx, _need(spec, "b", "the denominator"))
@@ -301,6 +314,7 @@ def ratio(ctx, spec, run_id):
     return float(a) / float(b)
 
 
+@extractor("curve_difference", "a", "b", "relative")
 def curve_difference(ctx, spec, run_id):
     """Largest |a - b| between two curves sampled at the same points (e.g. Cf of two runs);
     with relative = true divided by max |a|."""
@@ -315,6 +329,7 @@ def curve_difference(ctx, spec, run_id):
     return d
 
 
+@extractor("final_force_difference", "run_a", "run_b")
 def final_force_difference(ctx, spec, run_id):
     """Largest difference between two runs' last history rows over the force and moment
     columns, relative to the largest |coefficient| of the first run's row (a zero
@@ -331,16 +346,12 @@ def final_force_difference(ctx, spec, run_id):
     return max(abs(float(a[n][-1]) - float(b[n][-1])) for n in cols) / scale
 
 
-KINDS = {"cf_vs_retheta": cf_vs_retheta, "surface": surface, "surface_at": surface_at, "wall_units": wall_units, "ratio": ratio, "curve_difference": curve_difference, "run_json": run_json, "history_last": history_last, "field_error": field_error, "boundary_layer": boundary_layer,
-         "duct": duct, "duct_flow": duct_flow, "history_difference": history_difference,
-         "history_steadiness": history_steadiness, "final_force_difference": final_force_difference}
-
-
 def extract(ctx, spec):
     kind = spec.get("kind")
-    if kind not in KINDS:
-        raise HarnessError(f"unknown extractor kind {kind!r}; valid: {', '.join(KINDS)}")
+    if kind not in EXTRACT:
+        raise HarnessError(f"unknown extractor kind {kind!r}; valid: {', '.join(EXTRACT)}")
+    spec = Declared(spec)
     if "family" in spec:
         runs = ctx.family_runs(spec["family"])
-        return Family([r.h for r in runs], [KINDS[kind](ctx, spec, r.id) for r in runs], spec["family"])
-    return KINDS[kind](ctx, spec, spec.get("run", ""))
+        return Family([r.h for r in runs], [EXTRACT[kind][0](ctx, spec, r.id) for r in runs], spec["family"])
+    return EXTRACT[kind][0](ctx, spec, spec.get("run", ""))

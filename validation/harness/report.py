@@ -19,7 +19,7 @@ from .extract import read_csv  # noqa: E402
 CSS = """
 body{font-family:system-ui,sans-serif;margin:2em;color:#222;max-width:1200px}
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:4px 8px;font-size:14px}
-th{background:#f3f3f3}.PASS,.passed{color:#07702a;font-weight:bold}.FAIL,.failed,.crashed,.timeout{color:#b00020;font-weight:bold}
+th{background:#f3f3f3}.PASS,.passed{color:#07702a;font-weight:bold}.FAIL,.failed,.crashed,.timeout{color:#b00020;font-weight:bold}.skipped,.notbuilt{color:#666;font-weight:bold}
 .num{font-family:ui-monospace,monospace;text-align:right}img{max-width:560px;border:1px solid #ddd;margin:4px}
 .why{color:#555;font-size:13px}nav a{margin-right:1em}
 """

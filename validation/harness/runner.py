@@ -1,4 +1,5 @@
 """Runs one rung: its solver runs (with time-out), then its checks; writes results.json."""
+import functools
 import json
 import os
 import platform
@@ -63,6 +64,16 @@ def mpi_launcher(ranks):
     return [exe, "-n", str(ranks), "--oversubscribe"]
 
 
+@functools.lru_cache(maxsize=None)
+def built_with_mpi(narwhal):
+    """Whether this narwhal executable was built with NARWHAL_MPI (its --version says)."""
+    try:
+        out = subprocess.run([str(narwhal), "--version"], capture_output=True, text=True, timeout=30).stdout
+    except (OSError, subprocess.SubprocessError):
+        return False
+    return out.rstrip().endswith(", MPI)")
+
+
 def mpi_environment():
     env = dict(os.environ)
     if hasattr(os, "geteuid") and os.geteuid() == 0:  # containers and CI run as root
@@ -79,6 +90,12 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
               "provenance": {"git_sha": git_sha(root), "machine": platform.node(), "platform": platform.platform(),
                              "python": platform.python_version()}}
     runs = _ordered([r for r in rung.runs if tier in r.tiers])
+    most_ranks = max([r.ranks or ranks for r in runs], default=1)
+    if most_ranks > 1 and not built_with_mpi(str(narwhal)):
+        # Not a failure of the rung: this build cannot run it at all.
+        result.update(status="skipped", message=f"needs {most_ranks} MPI ranks, but {narwhal} was built without MPI "
+                                                "(configure with -DNARWHAL_MPI=ON)")
+        return _finish(result, out_dir, started)
     run_dirs, inputs = {}, {}
     for r in runs:
         rd = out_dir / "runs" / r.id
@@ -150,6 +167,10 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
             result["message"] = f"no check of rung '{rung.name}' belongs to tier '{tier}'"
         elif not all(ch["pass"] for ch in result["checks"]):
             result["status"] = "failed"
+    return _finish(result, out_dir, started)
+
+
+def _finish(result, out_dir, started):
     result["wall_seconds"] = time.monotonic() - started
     result["cells"] = sum(r.get("cells") or 0 for r in result["runs"])
     result["iterations"] = sum(r.get("iterations") or 0 for r in result["runs"])

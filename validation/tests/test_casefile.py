@@ -45,6 +45,44 @@ class RungFiles(unittest.TestCase):
         self.assertIn(str(path), msg)
         return msg
 
+    def test_misspelled_extractor_key_is_named_with_a_suggestion(self):
+        # x_mx = 0.9 used to be ignored, and the whole plate compared.
+        msg = self.error(GOOD.replace('field = "iterations" }',
+                                      'field = "iterations" }\n').replace(
+            'extract = { kind = "run_json", run = "a", field = "iterations" }',
+            'extract = { kind = "surface", run = "a", group = "plate", y = "cf_x", x_mx = 0.9 }'))
+        self.assertIn("check[0].extract.x_mx", msg)
+        self.assertIn("did you mean 'check[0].extract.x_max'", msg)
+
+    def test_misspelled_key_of_a_nested_extraction_is_named(self):
+        msg = self.error(GOOD.replace(
+            'extract = { kind = "run_json", run = "a", field = "iterations" }',
+            'extract = { kind = "ratio", a = { kind = "run_json", run = "a", field = "x" }, '
+            'b = { kind = "run_json", run = "a", feild = "y" } }'))
+        self.assertIn("check[0].extract.b.feild", msg)
+
+    def test_unknown_extractor_kind_lists_the_valid_ones(self):
+        msg = self.error(GOOD.replace('kind = "run_json"', 'kind = "run_jsn"'))
+        self.assertIn("check[0].extract.kind", msg)
+        self.assertIn("run_json", msg)
+
+    def test_misspelled_reference_key_is_named(self):
+        msg = self.error(GOOD.replace('column = "v"', 'colum = "v"'))
+        self.assertIn("check[0].reference.colum", msg)
+        self.assertIn("did you mean 'check[0].reference.column'", msg)
+
+    def test_option_the_comparator_does_not_take_is_named(self):
+        msg = self.error(GOOD.replace('rationale = "because"', 'rationale = "because"\noptions = { pair = 2 }'))
+        self.assertIn("check[0].options.pair", msg)
+
+    def test_extractor_reading_an_undeclared_key_is_a_harness_bug(self):
+        from harness.schema import Declared
+        spec = Declared({"kind": "run_json", "run": "a", "field": "iterations"})
+        self.assertEqual(spec.get("field"), "iterations")
+        with self.assertRaises(HarnessError) as cm:
+            spec.get("column")
+        self.assertIn("harness bug", str(cm.exception))
+
     def test_good_file_loads(self):
         rung = load_rung(self.write(GOOD))
         self.assertEqual(rung.name, "myrung")
