@@ -52,6 +52,21 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
     p.dx_le = r.number_or("grid.dx_leading_edge", p.dx_le, "the streamwise spacing at the leading edge", Range::positive());
     p.dx_te = r.number_or("grid.dx_trailing_edge", p.dx_te, "the streamwise spacing at the trailing edge (0: free)", Range::at_least(0));
     p.dy_wall = r.number_or("grid.dy_wall", p.dy_wall, "the first wall-normal spacing", Range::positive());
+    // Geometric stretching from a first spacing needs room for that many cells of it.
+    auto fits = [&](const char* key, Real ds, Real length, int cells, const char* where) {
+      if (ds * cells > length * (1 + 1e-12))
+        r.error(key, fmt::format("{} cells starting at {} do not fit in {} ({}): the spacing must be at most {}", cells,
+                                 ds, where, length, length / cells));
+    };
+    fits("grid.dx_leading_edge", p.dx_le, p.x_runup, p.n_runup, "the run-up");
+    if (p.dx_te > 0.0) {
+      if (p.n_plate < 2) r.error("grid.cells_plate", "a trailing-edge spacing needs at least 2 plate cells");
+      fits("grid.dx_leading_edge", p.dx_le, 0.5 * p.length, p.n_plate / 2, "the front half of the plate");
+      fits("grid.dx_trailing_edge", p.dx_te, 0.5 * p.length, p.n_plate - p.n_plate / 2, "the rear half of the plate");
+    } else {
+      fits("grid.dx_leading_edge", p.dx_le, p.length, p.n_plate, "the plate");
+    }
+    fits("grid.dy_wall", p.dy_wall, p.height, p.n_normal, "the height");
   } else if (g.type == "box") {
     const char* names[3] = {"x", "y", "z"};
     for (int d = 0; d < 3; ++d) {
@@ -89,6 +104,7 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
     for (std::size_t i = 0; i < n; ++i) {
       const std::string pre = fmt::format("grid.patch[{}].", i);
       Plot3dPatch p;
+      p.key = fmt::format("grid.patch[{}]", i);
       p.block = r.integer(pre + "block", "the 1-based block number", Range::at_least(1)) - 1;
       const std::string side = r.string(pre + "side", "one of imin, imax, jmin, jmax, kmin, kmax");
       p.side = parse_side(side);
@@ -274,7 +290,9 @@ CaseConfig load_case(const std::string& path, const std::vector<std::string>& ov
   return c;
 }
 
-Grid build_grid(const CaseConfig& c, int balance_ranks) {
+namespace {
+
+Grid build_grid_from(const CaseConfig& c, int balance_ranks) {
   Grid g;
   const auto& gc = c.grid;
   if (gc.type == "flat_plate") {
@@ -284,11 +302,15 @@ Grid build_grid(const CaseConfig& c, int balance_ranks) {
   } else if (gc.type == "perturbed_box") {
     g.blocks.push_back(make_perturbed_box("box", gc.perturbed_cells, gc.perturbed_amplitude));
   } else if (gc.type == "plot3d") {
-    g.blocks = read_plot3d(gc.plot3d_file);
+    try {
+      g.blocks = read_plot3d(gc.plot3d_file);
+    } catch (const Error& e) {
+      fail("{}: key 'grid.file': {}", c.file, e.what());
+    }
     for (Plot3dPatch p : gc.plot3d_patches) {
       if (p.block < 0 || p.block >= static_cast<int>(g.blocks.size()))
-        fail("{}: grid.patch '{}' names block {} but '{}' has {} blocks", c.file, p.label, p.block + 1,
-             gc.plot3d_file, g.blocks.size());
+        fail("{}: key '{}.block': patch '{}' names block {} but '{}' has {} blocks", c.file, p.key, p.label,
+             p.block + 1, gc.plot3d_file, g.blocks.size());
       Block& b = g.blocks[p.block];
       Patch q;
       q.side = p.side;
@@ -322,10 +344,15 @@ Grid build_grid(const CaseConfig& c, int balance_ranks) {
   }
   // Every labelled patch needs a BC (or a periodic partner); every BC a patch.
   for (const auto& [label, bc] : c.bcs)
-    if (assign_bc(g, label, bc) == 0) fail("{}: [bc.{}] matches no patch of the grid", c.file, label);
-  for (const auto& p : c.periodic) {
+    if (assign_bc(g, label, bc) == 0) fail("{}: key 'bc.{}': no patch of the grid has this label", c.file, label);
+  for (std::size_t i = 0; i < c.periodic.size(); ++i) {
+    const PeriodicConfig& p = c.periodic[i];
     const Mat3 R = Eigen::AngleAxisd(p.angle_deg * M_PI / 180.0, p.axis.normalized()).toRotationMatrix();
-    connect_periodic(g, p.a, p.b, R, p.translation);
+    try {
+      connect_periodic(g, p.a, p.b, R, p.translation);
+    } catch (const Error& e) {
+      fail("{}: key 'periodic[{}]': {}", c.file, i, e.what());
+    }
   }
   finalize_grid(g);
   for (int level = 0; level < gc.coarsen; ++level) {
@@ -334,6 +361,21 @@ Grid build_grid(const CaseConfig& c, int balance_ranks) {
     g = coarsen(g);
   }
   return g;
+}
+
+}  // namespace
+
+// Every failure names the case file: the grid comes from it.
+Grid build_grid(const CaseConfig& c, int balance_ranks) {
+  try {
+    return build_grid_from(c, balance_ranks);
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    if (what.rfind(c.file, 0) == 0) throw;
+    // The blocks of an imported grid are the grid file's: name it too.
+    if (c.grid.type == "plot3d") fail("{}: grid file '{}': {}", c.file, c.grid.plot3d_file, what);
+    fail("{}: {}", c.file, what);
+  }
 }
 
 }  // namespace narwhal

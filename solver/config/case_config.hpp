@@ -22,6 +22,7 @@ struct Plot3dPatch {
   int side = 0;
   Index3 lo{0, 0, 0}, hi{0, 0, 0};  // hi < 0: the whole face in that direction
   std::string label;
+  std::string key;                       // "grid.patch[i]", for messages
   std::array<std::string, 3> range_key;  // the case key of each given range, for messages
 };
 

@@ -62,14 +62,14 @@ void ConfigReader::parse(const std::string& text) {
 
 void ConfigReader::apply_override(const std::string& assignment) {
   const auto eq = assignment.find('=');
-  if (eq == std::string::npos || eq == 0) fail("override '{}': expected key=value", assignment);
+  if (eq == std::string::npos || eq == 0) fail("{}: override '{}': expected key=value", file_, assignment);
   std::string key = assignment.substr(0, eq);
   key.erase(key.find_last_not_of(' ') + 1);
   toml::table parsed;
   try {
     parsed = toml::parse("v = " + assignment.substr(eq + 1));
   } catch (const toml::parse_error& e) {
-    fail("override '{}': the value is not valid TOML: {}", assignment, e.description());
+    fail("{}: override '{}': the value is not valid TOML: {}", file_, assignment, e.description());
   }
   toml::table* t = &root_;
   std::size_t start = 0;
@@ -84,7 +84,7 @@ void ConfigReader::apply_override(const std::string& assignment) {
       const char* last = part.data() + (close == std::string::npos ? part.size() : close);
       const auto [end, ec] = std::from_chars(first, last, v);
       if (close != part.size() - 1 || ec != std::errc() || end != last)
-        fail("override '{}': '{}' is not name[index] with a whole-number index", assignment, part);
+        fail("{}: override '{}': '{}' is not name[index] with a whole-number index", file_, assignment, part);
       index = v;
       part.resize(open);
     }
@@ -93,9 +93,9 @@ void ConfigReader::apply_override(const std::string& assignment) {
     if (index) {
       toml::array* a = n ? n->as_array() : nullptr;
       if (!a || !a->is_array_of_tables())
-        fail("override '{}': {} has no array of tables '{}' ([[{}]])", assignment, file_, walked, walked);
+        fail("{}: override '{}': the case has no array of tables '{}' ([[{}]])", file_, assignment, walked, walked);
       if (*index >= a->size())
-        fail("override '{}': {} has {} [[{}]] table(s), valid indices 0 to {}", assignment, file_, a->size(), walked,
+        fail("{}: override '{}': the case has {} [[{}]] table(s), valid indices 0 to {}", file_, assignment, a->size(), walked,
              a->size() - 1);
       t = (*a)[*index].as_table();
       walked += fmt::format("[{}]", *index);
@@ -103,7 +103,7 @@ void ConfigReader::apply_override(const std::string& assignment) {
     }
     if (!n) n = &t->insert_or_assign(part, toml::table{}).first->second;
     t = n->as_table();
-    if (!t) fail("override '{}': '{}' is not a table in {}", assignment, walked, file_);
+    if (!t) fail("{}: override '{}': '{}' is not a table", file_, assignment, walked);
   }
   t->insert_or_assign(key.substr(start), *parsed.get("v"));
 }

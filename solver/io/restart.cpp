@@ -56,8 +56,8 @@ std::string header_text(std::size_t file_size, std::size_t chunk, const std::vec
 
 void verify(const std::string& path, const std::vector<char>& bytes) {
   if (bytes.size() < kUserBlock)
-    fail("restart '{}': {} bytes, shorter than its {}-byte header: truncated or not a narwhal restart", path,
-         bytes.size(), kUserBlock);
+    fail("restart '{}': {} bytes, shorter than its {}-byte header (bytes 0 to {}): truncated or not a narwhal "
+         "restart", path, bytes.size(), kUserBlock, kUserBlock - 1);
   const auto end = std::find(bytes.begin(), bytes.begin() + kUserBlock, '\0');
   const std::string header(bytes.begin(), end);
   std::istringstream in(header);
@@ -69,9 +69,10 @@ void verify(const std::string& path, const std::vector<char>& bytes) {
          "not read", path, kFormat, format.substr(0, 40));
   if (!(in >> w_bytes >> size >> w_chunk >> chunk >> w_crc) || w_bytes != "bytes" || w_chunk != "chunk" ||
       w_crc != "crc32" || chunk == 0)
-    fail("restart '{}': the checksum header (bytes 0 to {}) is corrupt", path, kUserBlock - 1);
+    fail("restart '{}': bytes 0 to {}: the checksum header is corrupt", path, kUserBlock - 1);
   if (size != bytes.size())
-    fail("restart '{}': the file has {} bytes, its header says {}: truncated or appended to", path, bytes.size(), size);
+    fail("restart '{}': the file has {} bytes, its header (bytes 0 to {}) says {}: truncated or appended to", path,
+         bytes.size(), kUserBlock - 1, size);
   std::vector<uLong> stored;
   for (std::string word; in >> word;) {
     uLong v = 0;
@@ -81,17 +82,19 @@ void verify(const std::string& path, const std::vector<char>& bytes) {
     } catch (const std::exception&) {
       used = 0;
     }
-    if (word.size() != 8 || used != 8) fail("restart '{}': the checksum header is corrupt (entry '{}')", path, word);
+    if (word.size() != 8 || used != 8)
+      fail("restart '{}': bytes 0 to {}: the checksum header is corrupt (entry '{}')", path, kUserBlock - 1, word);
     stored.push_back(v);
   }
-  if (header.back() != '\n') fail("restart '{}': the checksum header is corrupt (no final line end)", path);
+  if (header.back() != '\n')
+    fail("restart '{}': bytes 0 to {}: the checksum header is corrupt (no final line end)", path, kUserBlock - 1);
   for (auto it = end; it != bytes.begin() + kUserBlock; ++it)
     if (*it != '\0')
       fail("restart '{}': byte {} of the header block is not zero: the file is corrupt", path, it - bytes.begin());
   const std::vector<uLong> computed = chunk_crcs(bytes, chunk);
   if (computed.size() != stored.size())
-    fail("restart '{}': the header lists {} checksums for {} chunks: the file is corrupt", path, stored.size(),
-         computed.size());
+    fail("restart '{}': bytes 0 to {}: the header lists {} checksums for {} chunks: the file is corrupt", path,
+         kUserBlock - 1, stored.size(), computed.size());
   for (std::size_t c = 0; c < computed.size(); ++c)
     if (computed[c] != stored[c]) {
       const std::size_t lo = kUserBlock + c * chunk, hi = std::min(bytes.size(), lo + chunk) - 1;
