@@ -201,22 +201,44 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
                                               continuing ? std::optional<int>(info.iteration) : std::nullopt);
   std::vector<Real> turb_res(turb_names.size(), 0.0), turb_ref(turb_names.size(), -1.0);
   for (std::size_t m = 0; m < turb_ref.size() && opt.restart; ++m) turb_ref[m] = info.turbulence_reference[m];
-  auto restart_info = [&](int it, Real wall) {
-    RestartInfo r{it, solver.reference_norm(), wall, {-1.0, -1.0}, flow_rate ? flow_rate->magnitude() : -1.0,
-                  c.turbulence.model};
-    for (std::size_t m = 0; m < turb_ref.size(); ++m) r.turbulence_reference[m] = turb_ref[m];
-    return r;
-  };
   Real turb_drop = 0.0;  // largest drop of the model's residuals
-
   const int max_it = opt.max_iterations.value_or(c.solver.max_iterations);
   RunSummary s;
   s.iterations = info.iteration;
-  const auto t0 = clock::now();
-  auto elapsed = [&] { return info.wall_seconds + std::chrono::duration<Real>(clock::now() - t0).count(); };
   IterationNorms last;
+  auto restart_info = [&](int it, Real wall) {
+    RestartInfo r{it, solver.reference_norm(), wall, {-1.0, -1.0}, flow_rate ? flow_rate->magnitude() : -1.0,
+                  c.turbulence.model};
+    for (std::size_t m = 0; m < turb_ref.size(); ++m) {
+      r.turbulence_reference[m] = turb_ref[m];
+      r.turbulence_residual[m] = turb_res[m];
+    }
+    r.residual = last.l2;
+    r.residual_total = last.total;
+    r.cfl = last.cfl;
+    r.residual_drop = s.residual_drop;
+    r.turbulence_drop = turb_drop;
+    return r;
+  };
   std::map<std::string, ForceCoefficients> forces;
   std::map<std::string, std::vector<WallFace>> faces;  // reused every iteration
+  bool done = false;  // converged already: a run resumed from the restart its converged end wrote
+  if (opt.restart) {
+    // The monitors of the restored state are those of the iteration that wrote it.
+    last.l2 = info.residual;
+    last.total = info.residual_total;
+    last.cfl = info.cfl;
+    s.residual_drop = info.residual_drop;
+    turb_drop = info.turbulence_drop;
+    for (std::size_t m = 0; m < turb_res.size(); ++m) turb_res[m] = info.turbulence_residual[m];
+    wall_faces(g, field, fp, faces);
+    forces = integrate_forces(g, faces, c.output.reference_area, c.output.reference_length, c.output.moment_centre);
+    done = info.iteration > 0 && s.residual_drop < c.solver.residual_drop && turb_drop < c.solver.residual_drop;
+    if (done) s.status = RunStatus::Converged;
+  }
+
+  const auto t0 = clock::now();
+  auto elapsed = [&] { return info.wall_seconds + std::chrono::duration<Real>(clock::now() - t0).count(); };
   auto last_print = clock::now();
   if (!opt.progress && root)
     fmt::print("narwhal: {} — {} blocks, {} cells{}, up to {} {}\n", c.title, g.blocks.size(), g.cells(),
@@ -225,7 +247,7 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
                   : std::string("iterations"));
 
   try {
-    while (s.iterations < max_it) {
+    while (!done && s.iterations < max_it) {
       const int it = s.iterations + 1;
       last = step();  // residual of the state entering this iteration (or cycle), then the update
       wall_faces(g, field, fp, faces);
@@ -273,7 +295,8 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
     s.status = RunStatus::Diverged;
     s.message = fmt::format("iteration {}: {}", s.iterations + 1, e.what());
   }
-  if (s.status == RunStatus::MaxIterations && s.iterations > 0)
+  // A resumed run that had nothing left to do has no residual of its own to locate.
+  if (s.status == RunStatus::MaxIterations && s.iterations > info.iteration)
     s.message = fmt::format("not converged (mean-flow drop {:.2e}{}); largest residual at {}", s.residual_drop,
                             turb ? fmt::format(", turbulence drop {:.2e}", turb_drop) : std::string(),
                             solver.describe_largest_residual());

@@ -9,6 +9,7 @@
 // size and the CRC-32 of every chunk of the bytes after the user block. Any change
 // to the file — a flipped byte, a truncation, appended data — is found before HDF5
 // reads a byte of it, and the message says which bytes.
+#include <array>
 #include <string>
 
 #include "mesh/block.hpp"
@@ -23,6 +24,15 @@ struct RestartInfo {
   Real turbulence_reference[2] = {-1.0, -1.0};  // first residuals of the turbulence model's variables
   Real body_force = -1.0;  // magnitude of a flow-rate-controlled body force (< 0: none)
   std::string turbulence_model = "laminar";
+  // The monitors of the iteration that produced the state, so that a run resumed from
+  // a restart written at its end (converged, or at the limit) reports exactly what the
+  // uninterrupted run did without iterating again.
+  std::array<Real, 4> residual{};  // RMS residual per equation (IterationNorms::l2)
+  Real residual_total = 0.0;
+  Real cfl = 0.0;
+  Real residual_drop = 1.0;                  // |R| / |R_0| of the mean flow
+  std::array<Real, 2> turbulence_residual{};  // the model's residuals
+  Real turbulence_drop = 0.0;                 // the largest drop of the model's residuals
 };
 
 // Writes atomically (temporary file + rename) so a crash never leaves a torn restart;

@@ -15,6 +15,8 @@ DERIVED = {
     # Cf(x) = 2 f''(0) / sqrt(Re x)
     "blasius_cf": lambda ref, p: (lambda x, c=2.0 * float(ref.column("fpp")[0]), re=p["reynolds"]:
                                   c / math.sqrt(re * x)),
+    # one-sided drag of a plate of unit length: C_D = (1/L) int Cf dx = 4 f''(0) / sqrt(Re L)
+    "blasius_drag": lambda ref, p: 4.0 * float(ref.column("fpp")[0]) / math.sqrt(p["reynolds"]),
     # delta*(x) = lim(eta - f) x / sqrt(Re x)
     "blasius_delta_star": lambda ref, p: _blasius_eta_minus_f(ref) * p["x"] / math.sqrt(p["reynolds"] * p["x"]),
     # u/U_e = f'(eta)

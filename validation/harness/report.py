@@ -5,9 +5,11 @@ headless browser can tell whether all images rendered."""
 import html
 import json
 import shutil
+import textwrap
 from pathlib import Path
 
 import matplotlib
+import matplotlib.ticker
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -15,11 +17,14 @@ import numpy as np  # noqa: E402
 
 from . import browser  # noqa: E402
 from .extract import read_csv  # noqa: E402
+from .ladder import load_ladder  # noqa: E402
+
+ONE_SIDED = {"max": "≤", "min": "≥"}
 
 CSS = """
 body{font-family:system-ui,sans-serif;margin:2em;color:#222;max-width:1200px}
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:4px 8px;font-size:14px}
-th{background:#f3f3f3}.PASS,.passed{color:#07702a;font-weight:bold}.FAIL,.failed,.crashed,.timeout{color:#b00020;font-weight:bold}.skipped,.notbuilt{color:#666;font-weight:bold}
+th{background:#f3f3f3}.PASS,.passed{color:#07702a;font-weight:bold}.FAIL,.failed,.crashed,.timeout{color:#b00020;font-weight:bold}.skipped,.notbuilt{color:#666;font-weight:bold}.notinthisrun{color:#666}
 .num{font-family:ui-monospace,monospace;text-align:right}img{max-width:560px;border:1px solid #ddd;margin:4px}
 .why{color:#555;font-size:13px}nav a{margin-right:1em}
 """
@@ -53,6 +58,22 @@ def _fmt(v):
     if isinstance(v, float):
         return f"{v:.6g}"
     return html.escape(str(v))
+
+
+def _check_cells(c):
+    """computed, reference, delta and tolerance cells of a check: a one-sided check shows
+    its bound (<= or >= the tolerance) in place of a reference, and no delta."""
+    bound = ONE_SIDED.get(c["comparator"])
+    if bound:
+        return (f"<td class=num>{_fmt(c.get('computed'))}</td><td class=num>{bound} {_fmt(c['tolerance'])}</td>"
+                f"<td class=num>—</td><td class=num>(bound)</td>")
+    return (f"<td class=num>{_fmt(c.get('computed'))}</td><td class=num>{_fmt(c.get('reference'))}</td>"
+            f"<td class=num>{_fmt(c.get('delta'))}</td><td class=num>{_fmt(c['tolerance'])}</td>")
+
+
+def _title(ax, text):
+    """A check's name as a figure title, wrapped so that it is never cut."""
+    ax.set_title("\n".join(textwrap.wrap(text, 70)), fontsize=9)
 
 
 def _to_uniform(y, z, f, n=41):
@@ -93,10 +114,79 @@ def _plot_duct_field(check, p):
     fig.suptitle(f"{check['name']}\n{p['cells']} vortex cells in the secondary stream function", fontsize=10)
 
 
+def _band(c, r):
+    """(low, high) of the values a scalar check accepts around reference r."""
+    t, comp = c["tolerance"], c["comparator"]
+    if comp == "rel":
+        return r * (1 - t), r * (1 + t)
+    if comp in ("abs", "restart_equal"):
+        return r - t, r + t
+    if comp == "max":
+        return -np.inf, t
+    return t, np.inf
+
+
+def _plot_scalar(check, path):
+    """The computed value on a number line with the reference and the accepted band."""
+    comp, c, r = check["comparator"], check.get("computed"), check.get("reference")
+    if c is None or (r is None and comp not in ONE_SIDED):
+        return False
+    lo, hi = _band(check, r)
+    finite = [v for v in (c, r, lo, hi) if v is not None and np.isfinite(v)]
+    span = max(finite) - min(finite) or max(abs(max(finite)), 1e-30)
+    x0, x1 = min(finite) - 0.3 * span, max(finite) + 0.3 * span
+    fig, ax = plt.subplots(figsize=(6.4, 1.9))
+    ax.axvspan(max(lo, x0), min(hi, x1), color="tab:green", alpha=0.15,
+               label=f"accepted ({ONE_SIDED.get(comp, '±')} {check['tolerance']:g})")
+    if r is not None and comp not in ONE_SIDED:
+        ax.axvline(r, color="k", lw=1.5, label=f"reference {r:.6g}")
+    ax.plot([c], [0.5], "o", color="tab:blue", ms=8, label=f"Narwhal {c:.6g}")
+    ax.set_xlim(x0, x1)
+    ax.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(5))
+    ax.set_ylim(0, 1)
+    ax.set_yticks([])
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    _title(ax, check["name"])
+    _save(fig, path)
+    return True
+
+
+def _plot_family(check, p, ax):
+    h, v = np.array(p["h"]), np.array(p["values"])
+    if check["comparator"] == "gci":
+        # Values against h with the Richardson-extrapolated value at h = 0, the reference,
+        # and the band the GCI puts around the finest grid's value.
+        ax.plot(h, v, "o-", label="Narwhal")
+        f_ext = p.get("extrapolated")
+        if f_ext is not None:
+            ax.plot([0.0], [f_ext], "s", color="tab:purple", label=f"extrapolated {f_ext:.6g}")
+            ax.plot([0.0, h[-1]], [f_ext, v[-1]], ":", color="tab:purple", lw=1)
+        ref = check.get("reference")
+        if ref is not None:
+            ax.axhline(ref, color="k", lw=1.5, label=f"reference {ref:.6g}")
+        g = check["tolerance"] * abs(v[-1])
+        ax.axhspan(v[-1] - g, v[-1] + g, color="tab:green", alpha=0.12,
+                   label=f"finest ± GCI bound {100 * check['tolerance']:g} %")
+        ax.set_xlim(left=0.0)
+        ax.set_xlabel("grid spacing h")
+        return
+    av = np.abs(v)
+    ax.loglog(h, av, "o-", label="Narwhal")
+    theory = p.get("theory")
+    if theory:
+        ax.loglog(h, av[-1] * (h / h[-1]) ** theory, "k--", lw=1, label=f"reference: order {theory:g}")
+        low = theory - check["tolerance"]
+        ax.fill_between(h, av[-1] * (h / h[-1]) ** theory, av[-1] * (h / h[-1]) ** low, color="tab:green",
+                        alpha=0.12, label=f"accepted: order ≥ {low:g}")
+    for i, o in enumerate(p.get("orders", [])):
+        ax.annotate(f"{o:.2f}", (np.sqrt(h[i] * h[i + 1]), np.sqrt(av[i] * av[i + 1])), fontsize=8)
+    ax.set_xlabel("grid spacing h")
+
+
 def _plot_check(check, path):
     p = check.get("plot")
     if not p:
-        return False
+        return _plot_scalar(check, path)
     if p["kind"] == "duct_field":
         _plot_duct_field(check, p)
         _save(plt.gcf(), path)
@@ -106,31 +196,22 @@ def _plot_check(check, path):
         x = np.array(p["x"])
         a1.plot(x, p["ref"], "k-", lw=1.5, label="reference")
         a1.plot(x, p["y"], "o", ms=3, color="tab:blue", label="Narwhal")
-        a1.legend()
-        a1.set_title(check["name"])
-        a2.plot(x, 100 * np.array(p["err"]) if p["relative"] else p["err"], "-", color="tab:red")
+        a1.legend(fontsize=8)
+        _title(a1, check["name"])
+        a2.plot(x, 100 * np.array(p["err"]) if p["relative"] else p["err"], "-", color="tab:red", label="error")
         a2.axhline(0, color="k", lw=0.5)
         tol = check["tolerance"] * (100 if p["relative"] else 1)
-        if check["comparator"] == "profile_max":
-            a2.axhspan(-tol, tol, color="tab:green", alpha=0.12, label="tolerance")
-            a2.legend()
+        what = "max |error|" if check["comparator"] == "profile_max" else "RMS error"
+        a2.axhspan(-tol, tol, color="tab:green", alpha=0.12, label=f"tolerance ({what})")
+        a2.legend(fontsize=8)
         a2.set_ylabel("error [%]" if p["relative"] else "error")
         if check.get("options", {}).get("log_x"):  # e.g. u+(y+)
             a2.set_xscale("log")
     else:
-        fig, ax = plt.subplots(figsize=(6.4, 4.4))
-        h, v = np.array(p["h"]), np.abs(np.array(p["values"]))
-        ax.loglog(h, v, "o-", label="Narwhal")
-        if p.get("theory"):
-            ax.loglog(h, v[-1] * (h / h[-1]) ** p["theory"], "k--", lw=1, label=f"order {p['theory']:g}")
-        for i, o in enumerate(p.get("orders", [])):
-            ax.annotate(f"{o:.2f}", (np.sqrt(h[i] * h[i + 1]), np.sqrt(v[i] * v[i + 1])), fontsize=8)
-        if p.get("extrapolated") is not None:
-            ax.set_title(f"{check['name']} (extrapolated {p['extrapolated']:.6g})")
-        else:
-            ax.set_title(check["name"])
-        ax.set_xlabel("grid spacing h")
-        ax.legend()
+        fig, ax = plt.subplots(figsize=(6.4, 4.6))
+        _plot_family(check, p, ax)
+        _title(ax, check["name"])
+        ax.legend(fontsize=8)
     _save(fig, path)
     return True
 
@@ -179,10 +260,8 @@ def _rung_page(rung_dir, res):
     for i, c in enumerate(res.get("checks", [])):
         verdict = "PASS" if c.get("pass") else "FAIL"
         body += (f"<h3>{html.escape(c['name'])} <span class='{verdict}'>{verdict}</span></h3>"
-                 "<table><tr><th>comparator</th><th>computed</th><th>reference</th><th>delta</th><th>tolerance</th></tr>"
-                 f"<tr><td>{c['comparator']}</td><td class=num>{_fmt(c.get('computed'))}</td>"
-                 f"<td class=num>{_fmt(c.get('reference'))}</td><td class=num>{_fmt(c.get('delta'))}</td>"
-                 f"<td class=num>{_fmt(c['tolerance'])}</td></tr></table>"
+                 "<table><tr><th>comparator</th><th>computed</th><th>reference or bound</th><th>delta</th>"
+                 f"<th>tolerance</th></tr><tr><td>{c['comparator']}</td>{_check_cells(c)}</tr></table>"
                  f"<p class=why>Why this tolerance: {html.escape(c['rationale'])}</p>")
         if c.get("orders"):
             body += "<p class=why>Observed orders (coarse to fine): " + ", ".join(f"{o:.3f}" for o in c["orders"]) + "</p>"
@@ -339,6 +418,32 @@ def _screenshots(out, results):
             browser.screenshot(out / r["rung"] / "index.html", shots / f"{r['rung']}.png", 1280, 3000)
 
 
+def _ladder_table(results):
+    """The paper's whole ladder, step by step: the rungs of this run with their status,
+    rungs of other tiers, and the steps not built yet with the issue that builds them."""
+    by_rung = {r["rung"]: r for r in results}
+    rows = ""
+    for n, step in enumerate(load_ladder(), 1):
+        if step.planned:
+            rows += (f"<tr><td class=num>{n}</td><td>{html.escape(step.title)}</td><td>—</td>"
+                     f"<td class=notbuilt>not built yet ({html.escape(step.planned)})</td></tr>")
+            continue
+        cells, states = [], []
+        for name in step.rungs:
+            r = by_rung.get(name)
+            state = r["status"] if r else "not in this run"
+            states.append(state)
+            link = f"<a href='{name}/index.html'>{html.escape(name)}</a>" if r else html.escape(name)
+            cells.append(f"{link} <span class='{html.escape(state.replace(' ', ''))}'>{html.escape(state)}</span>")
+        ran = [s for s in states if s != "not in this run"]
+        overall = ("not in this run" if not ran else "passed" if all(s in ("passed", "skipped") for s in ran)
+                   else "failed")
+        rows += (f"<tr><td class=num>{n}</td><td>{html.escape(step.title)}</td><td>{'<br>'.join(cells)}</td>"
+                 f"<td class='{overall.replace(' ', '')}'>{overall}</td></tr>")
+    return ("<h2>The validation ladder</h2><table><tr><th>step</th><th>what it validates</th><th>rungs</th>"
+            f"<th>status</th></tr>{rows}</table>")
+
+
 def build_report(out, reports, history_dir=None):
     out, reports = Path(out), Path(reports)
     results = []
@@ -360,14 +465,14 @@ def build_report(out, reports, history_dir=None):
                 rows += f"<tr>{first}<td colspan=6>{html.escape(r.get('message', 'no checks ran'))}</td>{t}</tr>"
                 continue
             v = "PASS" if c.get("pass") else "FAIL"
-            rows += (f"<tr>{first}<td>{html.escape(c['name'])}</td><td class=num>{_fmt(c.get('computed'))}</td>"
-                     f"<td class=num>{_fmt(c.get('reference'))}</td><td class=num>{_fmt(c.get('delta'))}</td>"
-                     f"<td class=num>{_fmt(c['tolerance'])}</td><td class={v}>{v}</td>{t}</tr>")
+            rows += f"<tr>{first}<td>{html.escape(c['name'])}</td>{_check_cells(c)}<td class={v}>{v}</td>{t}</tr>"
     passed = sum(r["status"] == "passed" for r in results)
     sha = next((r.get("provenance", {}).get("git_sha") for r in results if r.get("provenance")), "unknown")
-    body = (f"<p>{passed} of {len(results)} rungs passed — run {html.escape(out.name)}, git {html.escape(str(sha))}</p>"
-            "<table><tr><th>rung</th><th>check</th><th>computed</th><th>reference</th><th>delta</th><th>tolerance</th>"
-            f"<th>result</th><th>time s</th></tr>{rows}</table>")
+    skipped = sum(r["status"] == "skipped" for r in results)
+    body = (f"<p>{passed} of {len(results)} rungs passed{f', {skipped} skipped' if skipped else ''} — run "
+            f"{html.escape(out.name)}, git {html.escape(str(sha))}</p>" + _ladder_table(results) +
+            "<h2>Checks</h2><table><tr><th>rung</th><th>check</th><th>computed</th><th>reference or bound</th>"
+            f"<th>delta</th><th>tolerance</th><th>result</th><th>time s</th></tr>{rows}</table>")
     (out / "index.html").write_text(_page("Narwhal validation report", body))
     _perf_page(out, reports, results, history_dir)
     _screenshots(out, results)

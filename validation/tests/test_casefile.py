@@ -145,5 +145,23 @@ class ReferenceFiles(unittest.TestCase):
         self.assertIn("provenance", str(cm.exception))
 
 
+
+class Ladder(unittest.TestCase):
+    def test_every_rung_stands_on_exactly_one_step_of_the_ladder(self):
+        from harness.casefile import discover
+        from harness.ladder import load_ladder
+        from support import ROOT
+        named = [r for step in load_ladder() for r in step.rungs]
+        rungs = [p.parent.name for p in discover(ROOT / "validation" / "cases")]
+        self.assertEqual(sorted(named), sorted(rungs))
+
+    def test_steps_not_built_name_the_issue_that_builds_them(self):
+        from harness.ladder import load_ladder
+        planned = [s for s in load_ladder() if s.planned]
+        self.assertTrue(planned)
+        for s in planned:
+            self.assertRegex(s.planned, r"^issue \d+$")
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -1,5 +1,7 @@
 """The HTML report renders in headless Chromium with every image loaded, every linked
 page exists, and the screenshots of the summary and flat-plate pages are saved."""
+import html
+import json
 import os
 import re
 import shutil
@@ -12,6 +14,7 @@ from pathlib import Path
 from support import NARWHAL, ROOT
 
 from harness import browser
+from harness.ladder import load_ladder
 
 
 @unittest.skipUnless(browser.chromium(), "chromium is not installed")
@@ -47,6 +50,32 @@ class Render(unittest.TestCase):
             self.assertTrue(page.exists(), f"linked page missing: {page}")
             dom = browser.dump_dom(page)
             self.assertIn('data-images="ok"', dom, f"{page}: images did not all load")
+
+    def test_summary_shows_the_whole_ladder_with_the_steps_not_built_yet(self):
+        dom = browser.dump_dom(self.report / "index.html")
+        self.assertIn("The validation ladder", dom)
+        for step in load_ladder():
+            self.assertIn(html.escape(step.title), dom)
+            if step.planned:
+                self.assertIn(f"not built yet ({step.planned})", dom)
+
+    def test_one_sided_checks_show_their_bound_not_a_delta(self):
+        dom = browser.dump_dom(self.report / "index.html")
+        one_sided = [c for rj in self.report.glob("*/results.json") for c in json.loads(rj.read_text())["checks"]
+                     if c["comparator"] in ("max", "min")]
+        if not one_sided:
+            self.skipTest("no one-sided check in this report")
+        for c in one_sided:
+            bound = ("≤ " if c["comparator"] == "max" else "≥ ") + f"{c['tolerance']:.6g}"
+            self.assertIn(bound, dom, c["name"])
+
+    def test_every_check_with_a_value_has_its_figure(self):
+        for rj in self.report.glob("*/results.json"):
+            res = json.loads(rj.read_text())
+            dom = browser.dump_dom(rj.parent / "index.html")
+            for i, c in enumerate(res["checks"]):
+                if c.get("computed") is not None:
+                    self.assertIn(f'src="check_{i}.png"', dom, f"{res['rung']}: check {i} ({c['name']}) has no figure")
 
     def test_a_broken_image_is_detected(self):
         bad = self.report / "broken_probe.html"
