@@ -94,121 +94,47 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
 
 }  // namespace
 
-RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
-  namespace fs = std::filesystem;
-  using clock = std::chrono::steady_clock;
-  const Communicator comm = Communicator::world();
-  const bool root = comm.is_root();
-  // The case's own blocks (the layout of every file), and the blocks the run computes
-  // on: cut into pieces until they share out over the ranks (parallel/partition.hpp).
-  const int split_for = c.split_for > 0 ? c.split_for : comm.size();
-  const bool pieces = split_for > 1;
-  Grid g = build_grid(c, split_for);
-  Grid whole;
-  if (pieces) whole = build_grid(c);
-  distribute(g, comm.size(), comm.rank());
-  FlowParams fp = flow_params(c);
-  std::unique_ptr<FlowRateControl> flow_rate;
-  if (c.bulk_velocity > 0.0) {
-    flow_rate = std::make_unique<FlowRateControl>(g, c.body_force, c.bulk_velocity);
-    fp.momentum_source = flow_rate->source();
-  }
-  FlowField field;
-  field.allocate(g, fp, c.initial);
-  // A run from a restart continues the directory's history; restarting from the
-  // directory's own restart.h5 keeps that file as the last good state until the next.
-  const bool continuing = opt.restart.has_value();
-  const bool own_restart = continuing && restart_is_in(*opt.restart, opt.out_dir);
-  std::unique_ptr<OutputDirectory> out_dir;
-  if (root) {
-    out_dir = std::make_unique<OutputDirectory>(opt.out_dir, continuing, own_restart);
-    if (!out_dir->cleared().empty())
-      fmt::print("narwhal: removed the previous run's outputs from '{}' ({} files)\n", opt.out_dir,
-                 out_dir->cleared().size());
-  }
-  comm.barrier();
-  const std::string restart_path = (fs::path(opt.out_dir) / "restart.h5").string();
-  int last_restart = -1;  // iteration of the newest restart.h5 of this run's lineage in out_dir
+namespace {
 
-  RestartInfo info;
-  if (opt.restart) {
-    // Every rank reads the file (written in the case's layout) and keeps its pieces.
-    if (pieces) {
-      FlowField w;
-      w.allocate(whole, fp, c.initial);
-      info = read_restart(*opt.restart, whole, w, c.turbulence.model);
-      copy_between_layouts(g, field, whole, w, false);
-    } else {
-      info = read_restart(*opt.restart, g, field, c.turbulence.model);
-    }
-    if (own_restart) last_restart = info.iteration;
-  }
-  // The root writes files in the case's layout from every rank's cells.
-  FlowField whole_field;
-  auto assemble = [&]() -> FlowField& {
-    gather_to_root(g, field);
-    if (!pieces) return field;
-    if (root) {
-      if (whole_field.Q.empty()) whole_field.allocate(whole, fp, c.initial);
-      copy_between_layouts(g, field, whole, whole_field, true);
-    }
-    return whole_field;
-  };
-  auto save_restart = [&](const RestartInfo& r) {
-    FlowField& out = assemble();
-    if (root) write_restart(restart_path, pieces ? whole : g, out, r, c.text);
-    last_restart = r.iteration;
-  };
-  if (flow_rate && info.body_force > 0.0) flow_rate->set_magnitude(info.body_force);
-  if (c.solver.planar_shortcut) {
-    const std::string planar = mark_planar_blocks(g, field, fp);
-    if (!planar.empty() && root) fmt::print("narwhal: {}\n", planar);
-  }
-  // Single grid: one Newton-SGS iteration per step; multigrid: one FAS cycle.
-  std::unique_ptr<NewtonSolver> single;
-  std::unique_ptr<Multigrid> mg;
-  if (c.solver.multigrid.levels > 1) {
-    mg = std::make_unique<Multigrid>(g, field, fp, c.solver.newton, c.solver.multigrid);
-    if (!mg->level_note().empty() && root) fmt::print("narwhal: {}\n", mg->level_note());
-  } else {
-    single = std::make_unique<NewtonSolver>(g, field, fp, c.solver.newton);
-  }
-  NewtonSolver& solver = mg ? mg->finest() : *single;
-  if (opt.restart) solver.set_reference_norm(info.reference_norm);
-  // Turbulence: loosely coupled, one model update after every mean-flow step (§8.6).
-  std::unique_ptr<TurbulenceModel> turb = make_turbulence_model(c.turbulence, g);
-  if (turb) {
-    turb->initialize(g, field, fp, opt.restart.has_value());
-    fill_ghosts(g, field, fp);
-    turb->update_viscosity(g, field, fp);
-  }
-  TurbulenceNorms turb_norms;
-  auto step = [&] {
-    const IterationNorms n = mg ? mg->cycle() : solver.iterate();
-    if (turb) turb_norms = turb->advance(g, field, fp, n.cfl);
-    return n;
-  };
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
 
-  // Wall groups are known from the patches; forces appear in the history per group.
-  fill_ghosts(g, field, fp);
-  std::vector<std::string> groups;
-  for (const auto& [name, list] : wall_faces(g, field, fp)) groups.push_back(name);  // every rank: all groups
-  std::vector<std::string> turb_names;
-  for (int m = 0; turb && m < turb->num_variables(); ++m) turb_names.push_back(turb->variable_name(m));
-  std::unique_ptr<HistoryWriter> history;
-  if (root)
-    history = std::make_unique<HistoryWriter>((fs::path(opt.out_dir) / "history.csv").string(), groups, turb_names,
-                                              continuing ? std::optional<int>(info.iteration) : std::nullopt);
-  std::vector<Real> turb_res(turb_names.size(), 0.0), turb_ref(turb_names.size(), -1.0);
-  for (std::size_t m = 0; m < turb_ref.size() && opt.restart; ++m) turb_ref[m] = info.turbulence_reference[m];
-  Real turb_drop = 0.0;  // largest drop of the model's residuals
-  const int max_it = opt.max_iterations.value_or(c.solver.max_iterations);
-  RunSummary s;
-  s.iterations = info.iteration;
-  IterationNorms last;
-  auto restart_info = [&](int it, Real wall) {
-    RestartInfo r{it, solver.reference_norm(), wall, {-1.0, -1.0}, flow_rate ? flow_rate->magnitude() : -1.0,
-                  c.turbulence.model};
+// Residual monitors of the latest iteration: what convergence is judged on, what the
+// history and run.json report, and what a restart carries so that a resumed run
+// continues (or ends) exactly as the uninterrupted one.
+struct Monitors {
+  IterationNorms last;           // mean-flow residual norms of the latest iteration
+  Real drop = 1.0;               // |R| / |R_0| of the mean flow
+  std::vector<Real> turb_res;    // the turbulence model's residuals
+  std::vector<Real> turb_ref;    // the largest each has had (its reference)
+  Real turb_drop = 0.0;          // the largest drop of the model's residuals
+
+  explicit Monitors(std::size_t turbulence_variables)
+      : turb_res(turbulence_variables, 0.0), turb_ref(turbulence_variables, -1.0) {}
+
+  void take_turbulence(const TurbulenceNorms& n) {
+    turb_drop = 0.0;
+    for (std::size_t m = 0; m < turb_res.size(); ++m) {
+      turb_res[m] = n.l2[m];
+      // Measured against the largest residual the model has had: from a free-stream
+      // start the first residual of k is tiny, and a drop relative to it would ask for
+      // far more than the mean flow's criterion does.
+      turb_ref[m] = std::max(turb_ref[m], turb_res[m]);
+      turb_drop = std::max(turb_drop, turb_res[m] / std::max(turb_ref[m], 1e-300));
+    }
+  }
+  void restore(const RestartInfo& info) {
+    last.l2 = info.residual;
+    last.total = info.residual_total;
+    last.cfl = info.cfl;
+    drop = info.residual_drop;
+    turb_drop = info.turbulence_drop;
+    for (std::size_t m = 0; m < turb_res.size(); ++m) {
+      turb_res[m] = info.turbulence_residual[m];
+      turb_ref[m] = info.turbulence_reference[m];
+    }
+  }
+  void store(RestartInfo& r) const {
     for (std::size_t m = 0; m < turb_ref.size(); ++m) {
       r.turbulence_reference[m] = turb_ref[m];
       r.turbulence_residual[m] = turb_res[m];
@@ -216,121 +142,294 @@ RunSummary run_case(const CaseConfig& c, const RunOptions& opt) {
     r.residual = last.l2;
     r.residual_total = last.total;
     r.cfl = last.cfl;
-    r.residual_drop = s.residual_drop;
+    r.residual_drop = drop;
     r.turbulence_drop = turb_drop;
-    return r;
-  };
-  std::map<std::string, ForceCoefficients> forces;
-  std::map<std::string, std::vector<WallFace>> faces;  // reused every iteration
-  bool done = false;  // converged already: a run resumed from the restart its converged end wrote
-  if (opt.restart) {
-    // The monitors of the restored state are those of the iteration that wrote it.
-    last.l2 = info.residual;
-    last.total = info.residual_total;
-    last.cfl = info.cfl;
-    s.residual_drop = info.residual_drop;
-    turb_drop = info.turbulence_drop;
-    for (std::size_t m = 0; m < turb_res.size(); ++m) turb_res[m] = info.turbulence_residual[m];
-    wall_faces(g, field, fp, faces);
-    forces = integrate_forces(g, faces, c.output.reference_area, c.output.reference_length, c.output.moment_centre);
-    done = info.iteration > 0 && s.residual_drop < c.solver.residual_drop && turb_drop < c.solver.residual_drop;
-    if (done) s.status = RunStatus::Converged;
+  }
+  bool converged(Real target) const { return drop < target && turb_drop < target; }
+};
+
+// One steady run, phase by phase: grids, output directory, restart, solvers, then
+// iterations (step, monitors, convergence, checkpoint) and the final outputs.
+class SteadyRun {
+ public:
+  SteadyRun(const CaseConfig& c, const RunOptions& opt)
+      : c_(c), opt_(opt), comm_(Communicator::world()), root_(comm_.is_root()),
+        max_it_(opt.max_iterations.value_or(c.solver.max_iterations)) {}
+
+  RunSummary execute() {
+    prepare_grids();
+    prepare_output_directory();
+    restore_state();
+    build_solvers();
+    open_monitors();
+    announce();
+    iterate();
+    finish();
+    return s_;
   }
 
-  const auto t0 = clock::now();
-  auto elapsed = [&] { return info.wall_seconds + std::chrono::duration<Real>(clock::now() - t0).count(); };
-  auto last_print = clock::now();
-  if (!opt.progress && root)
-    fmt::print("narwhal: {} — {} blocks, {} cells{}, up to {} {}\n", c.title, g.blocks.size(), g.cells(),
-               comm.size() > 1 ? fmt::format(", {} ranks", comm.size()) : std::string(), max_it,
-               mg ? fmt::format("{}-cycles on {} levels", c.solver.multigrid.gamma == 2 ? "W" : "V", mg->levels())
-                  : std::string("iterations"));
+ private:
+  // The case's own blocks (the layout of every file), and the blocks the run computes
+  // on: cut into pieces until they share out over the ranks (parallel/partition.hpp).
+  void prepare_grids() {
+    const int split_for = c_.split_for > 0 ? c_.split_for : comm_.size();
+    pieces_ = split_for > 1;
+    g_ = build_grid(c_, split_for);
+    if (pieces_) whole_ = build_grid(c_);
+    distribute(g_, comm_.size(), comm_.rank());
+    fp_ = flow_params(c_);
+    if (c_.bulk_velocity > 0.0) {
+      flow_rate_ = std::make_unique<FlowRateControl>(g_, c_.body_force, c_.bulk_velocity);
+      fp_.momentum_source = flow_rate_->source();
+    }
+    field_.allocate(g_, fp_, c_.initial);
+  }
 
-  try {
-    while (!done && s.iterations < max_it) {
-      const int it = s.iterations + 1;
-      last = step();  // residual of the state entering this iteration (or cycle), then the update
-      wall_faces(g, field, fp, faces);
-      forces = integrate_forces(g, faces, c.output.reference_area, c.output.reference_length, c.output.moment_centre);
-      if (flow_rate) flow_rate->update(g, field, faces);
-      turb_drop = 0.0;
-      for (std::size_t m = 0; m < turb_res.size(); ++m) {
-        turb_res[m] = turb_norms.l2[m];
-        // The model's residual is measured against the largest it has had: from a
-        // free-stream start the first residual of k is tiny, and a drop relative to it
-        // would ask for far more than the mean flow's criterion does.
-        turb_ref[m] = std::max(turb_ref[m], turb_res[m]);
-        turb_drop = std::max(turb_drop, turb_res[m] / std::max(turb_ref[m], 1e-300));
-      }
-      if (history) history->write(it, elapsed(), last, forces, turb_res);
-      s.iterations = it;
-      s.residual_drop = last.total / solver.reference_norm();
-      if (!std::isfinite(last.total) || s.residual_drop > c.solver.divergence_factor) {
-        s.status = RunStatus::Diverged;
-        s.message = fmt::format("iteration {}: residual grew by {:.2e} (limit {:.1e}); largest at {}", it,
-                                s.residual_drop, c.solver.divergence_factor, solver.describe_largest_residual());
-        break;
-      }
-      if (s.residual_drop < c.solver.residual_drop && turb_drop < c.solver.residual_drop) {
-        s.status = RunStatus::Converged;
-        break;
-      }
-      if (c.output.restart_interval > 0 && it % c.output.restart_interval == 0) {
-        solver.check_finite();
-        save_restart(restart_info(it, elapsed()));
-      }
-      if (opt.progress && root && (clock::now() - last_print > std::chrono::milliseconds(200))) {
-        last_print = clock::now();
-        // ETA from the mean logarithmic convergence rate so far.
-        const Real rate = std::log(std::max(s.residual_drop, 1e-300)) / it;
-        const Real left = rate < 0 ? std::log(c.solver.residual_drop / s.residual_drop) / rate : 0.0;
-        const Real eta = std::min<Real>(left, max_it - it) * elapsed() / it;
-        std::string f;
-        for (const auto& [name, fc] : forces) f += fmt::format("  {} CF=({:.5f},{:.5f})", name, fc.force[0], fc.force[1]);
-        fmt::print("\r  it {:6d}  drop {:.2e}  cfl {:.1e}{}  ETA {:.0f}s   ", it, s.residual_drop, last.cfl, f, eta);
-        std::fflush(stdout);
-      }
+  // A run from a restart continues the directory's history; restarting from the
+  // directory's own restart.h5 keeps that file as the last good state until the next.
+  void prepare_output_directory() {
+    continuing_ = opt_.restart.has_value();
+    own_restart_ = continuing_ && restart_is_in(*opt_.restart, opt_.out_dir);
+    if (root_) {
+      out_dir_ = std::make_unique<OutputDirectory>(opt_.out_dir, continuing_, own_restart_);
+      if (!out_dir_->cleared().empty())
+        fmt::print("narwhal: removed the previous run's outputs from '{}' ({} files)\n", opt_.out_dir,
+                   out_dir_->cleared().size());
     }
-  } catch (const DivergenceError& e) {
-    s.status = RunStatus::Diverged;
-    s.message = fmt::format("iteration {}: {}", s.iterations + 1, e.what());
+    comm_.barrier();
+    restart_path_ = file("restart.h5");
   }
-  // A resumed run that had nothing left to do has no residual of its own to locate.
-  if (s.status == RunStatus::MaxIterations && s.iterations > info.iteration)
-    s.message = fmt::format("not converged (mean-flow drop {:.2e}{}); largest residual at {}", s.residual_drop,
-                            turb ? fmt::format(", turbulence drop {:.2e}", turb_drop) : std::string(),
-                            solver.describe_largest_residual());
-  if (opt.progress && root) fmt::print("\n");
-  s.wall_seconds = comm.max(elapsed());
-  if (s.status != RunStatus::Diverged) {
-    save_restart(restart_info(s.iterations, s.wall_seconds));
-    if (root) {  // surfaces and the solution from the assembled field, as a serial run
-      FlowField& out = pieces ? whole_field : field;
-      Grid& out_grid = pieces ? whole : g;
-      const std::vector<int> owner = out_grid.owner;
-      out_grid.owner.clear();  // the root holds every block now: a serial ghost fill
-      out_grid.halo.reset();
-      fill_ghosts(out_grid, out, fp);
-      for (const auto& [name, list] : wall_faces(out_grid, out, fp))
-        write_surface_csv((fs::path(opt.out_dir) / fmt::format("surface_{}.csv", name)).string(), list);
-      std::vector<std::string> cgns_turb;
-      for (int m = 0; turb && m < turb->num_variables(); ++m) cgns_turb.push_back(turb->cgns_name(m));
-      write_cgns_solution((fs::path(opt.out_dir) / "solution.cgns").string(), out_grid, out, cgns_turb,
-                          1.0 / fp.reynolds);
-      out_grid.owner = owner;
-      out_grid.halo.reset();
+
+  // Every rank reads the restart (written in the case's layout) and keeps its pieces.
+  void restore_state() {
+    if (!opt_.restart) return;
+    if (pieces_) {
+      FlowField w;
+      w.allocate(whole_, fp_, c_.initial);
+      info_ = read_restart(*opt_.restart, whole_, w, c_.turbulence.model);
+      copy_between_layouts(g_, field_, whole_, w, false);
+    } else {
+      info_ = read_restart(*opt_.restart, g_, field_, c_.turbulence.model);
     }
-  } else if (root) {
-    s.message += last_restart >= 0 ? fmt::format("; the last good restart.h5 (iteration {}) is kept", last_restart)
-                                   : std::string("; no restart was written before");
+    if (own_restart_) last_restart_ = info_.iteration;
+    if (flow_rate_ && info_.body_force > 0.0) flow_rate_->set_magnitude(info_.body_force);
   }
-  comm.barrier();
-  if (!root) return s;
-  write_run_json((fs::path(opt.out_dir) / "run.json").string(), c, g, s, last, forces,
-                 flow_rate ? flow_rate->force() : c.body_force, comm.size());
-  fmt::print("narwhal: {} after {} iterations, residual drop {:.2e}, {:.1f} s{}{}\n", to_string(s.status),
-             s.iterations, s.residual_drop, s.wall_seconds, s.message.empty() ? "" : ": ", s.message);
-  return s;
-}
+
+  // Single grid: one Newton-SGS iteration per step; multigrid: one FAS cycle. The
+  // turbulence model is loosely coupled: one update after every mean-flow step (§8.6).
+  void build_solvers() {
+    if (c_.solver.planar_shortcut) {
+      const std::string planar = mark_planar_blocks(g_, field_, fp_);
+      if (!planar.empty() && root_) fmt::print("narwhal: {}\n", planar);
+    }
+    if (c_.solver.multigrid.levels > 1) {
+      mg_ = std::make_unique<Multigrid>(g_, field_, fp_, c_.solver.newton, c_.solver.multigrid);
+      if (!mg_->level_note().empty() && root_) fmt::print("narwhal: {}\n", mg_->level_note());
+    } else {
+      single_ = std::make_unique<NewtonSolver>(g_, field_, fp_, c_.solver.newton);
+    }
+    if (opt_.restart) solver().set_reference_norm(info_.reference_norm);
+    turb_ = make_turbulence_model(c_.turbulence, g_);
+    if (turb_) {
+      turb_->initialize(g_, field_, fp_, opt_.restart.has_value());
+      fill_ghosts(g_, field_, fp_);
+      turb_->update_viscosity(g_, field_, fp_);
+    }
+    fill_ghosts(g_, field_, fp_);
+  }
+
+  // Wall groups are known from the patches; forces appear in the history per group.
+  void open_monitors() {
+    std::vector<std::string> groups, turb_names;
+    for (const auto& [name, list] : wall_faces(g_, field_, fp_)) groups.push_back(name);  // every rank: all groups
+    for (int m = 0; turb_ && m < turb_->num_variables(); ++m) turb_names.push_back(turb_->variable_name(m));
+    monitors_ = Monitors(turb_names.size());
+    if (root_)
+      history_ = std::make_unique<HistoryWriter>(file("history.csv"), groups, turb_names,
+                                                 continuing_ ? std::optional<int>(info_.iteration) : std::nullopt);
+    s_.iterations = info_.iteration;
+    if (!opt_.restart) return;
+    // The restored state's monitors are those of the iteration that wrote it; a run
+    // resumed from the restart its converged end wrote has nothing left to do.
+    monitors_.restore(info_);
+    s_.residual_drop = monitors_.drop;
+    measure_forces();
+    if (info_.iteration > 0 && monitors_.converged(c_.solver.residual_drop)) s_.status = RunStatus::Converged;
+  }
+
+  void announce() const {
+    if (opt_.progress || !root_) return;
+    fmt::print("narwhal: {} — {} blocks, {} cells{}, up to {} {}\n", c_.title, g_.blocks.size(), g_.cells(),
+               comm_.size() > 1 ? fmt::format(", {} ranks", comm_.size()) : std::string(), max_it_,
+               mg_ ? fmt::format("{}-cycles on {} levels", c_.solver.multigrid.gamma == 2 ? "W" : "V", mg_->levels())
+                   : std::string("iterations"));
+  }
+
+  void iterate() {
+    started_ = Clock::now();
+    try {
+      while (s_.status == RunStatus::MaxIterations && s_.iterations < max_it_) {
+        const int it = s_.iterations + 1;
+        step();
+        measure_forces();
+        if (flow_rate_) flow_rate_->update(g_, field_, faces_);
+        if (history_) history_->write(it, elapsed(), monitors_.last, forces_, monitors_.turb_res);
+        s_.iterations = it;
+        s_.residual_drop = monitors_.drop;
+        if (judge_convergence(it)) break;
+        if (c_.output.restart_interval > 0 && it % c_.output.restart_interval == 0) checkpoint(it);
+        show_progress(it);
+      }
+    } catch (const DivergenceError& e) {
+      s_.status = RunStatus::Diverged;
+      s_.message = fmt::format("iteration {}: {}", s_.iterations + 1, e.what());
+    }
+    // A resumed run that had nothing left to do has no residual of its own to locate.
+    if (s_.status == RunStatus::MaxIterations && s_.iterations > info_.iteration)
+      s_.message = fmt::format("not converged (mean-flow drop {:.2e}{}); largest residual at {}", s_.residual_drop,
+                               turb_ ? fmt::format(", turbulence drop {:.2e}", monitors_.turb_drop) : std::string(),
+                               solver().describe_largest_residual());
+    if (opt_.progress && root_) fmt::print("\n");
+    s_.wall_seconds = comm_.max(elapsed());
+  }
+
+  // The residual of the state entering this iteration (or cycle), then the update.
+  void step() {
+    monitors_.last = mg_ ? mg_->cycle() : solver().iterate();
+    monitors_.drop = monitors_.last.total / solver().reference_norm();
+    if (turb_) monitors_.take_turbulence(turb_->advance(g_, field_, fp_, monitors_.last.cfl));
+  }
+
+  void measure_forces() {
+    wall_faces(g_, field_, fp_, faces_);
+    forces_ = integrate_forces(g_, faces_, c_.output.reference_area, c_.output.reference_length,
+                               c_.output.moment_centre);
+  }
+
+  // True when the run stops here: diverged or converged.
+  bool judge_convergence(int it) {
+    if (!std::isfinite(monitors_.last.total) || monitors_.drop > c_.solver.divergence_factor) {
+      s_.status = RunStatus::Diverged;
+      s_.message = fmt::format("iteration {}: residual grew by {:.2e} (limit {:.1e}); largest at {}", it,
+                               monitors_.drop, c_.solver.divergence_factor, solver().describe_largest_residual());
+      return true;
+    }
+    if (monitors_.converged(c_.solver.residual_drop)) {
+      s_.status = RunStatus::Converged;
+      return true;
+    }
+    return false;
+  }
+
+  void checkpoint(int it) {
+    solver().check_finite();
+    RestartInfo r{it, solver().reference_norm(), elapsed(), {-1.0, -1.0}, flow_rate_ ? flow_rate_->magnitude() : -1.0,
+                  c_.turbulence.model};
+    monitors_.store(r);
+    FlowField& out = assemble();
+    if (root_) write_restart(restart_path_, pieces_ ? whole_ : g_, out, r, c_.text);
+    last_restart_ = it;
+  }
+
+  void show_progress(int it) {
+    if (!opt_.progress || !root_ || Clock::now() - last_print_ < std::chrono::milliseconds(200)) return;
+    last_print_ = Clock::now();
+    // ETA from the mean logarithmic convergence rate so far.
+    const Real rate = std::log(std::max(s_.residual_drop, 1e-300)) / it;
+    const Real left = rate < 0 ? std::log(c_.solver.residual_drop / s_.residual_drop) / rate : 0.0;
+    const Real eta = std::min<Real>(left, max_it_ - it) * elapsed() / it;
+    std::string f;
+    for (const auto& [name, fc] : forces_) f += fmt::format("  {} CF=({:.5f},{:.5f})", name, fc.force[0], fc.force[1]);
+    fmt::print("\r  it {:6d}  drop {:.2e}  cfl {:.1e}{}  ETA {:.0f}s   ", it, s_.residual_drop, monitors_.last.cfl, f,
+               eta);
+    std::fflush(stdout);
+  }
+
+  // The last restart, surfaces and solution (not after a divergence: the last good
+  // restart stays), then run.json and the closing line.
+  void finish() {
+    if (s_.status != RunStatus::Diverged) {
+      checkpoint(s_.iterations);
+      if (root_) write_fields();
+    } else if (root_) {
+      s_.message += last_restart_ >= 0
+                        ? fmt::format("; the last good restart.h5 (iteration {}) is kept", last_restart_)
+                        : std::string("; no restart was written before");
+    }
+    comm_.barrier();
+    if (!root_) return;
+    write_run_json(file("run.json"), c_, g_, s_, monitors_.last, forces_,
+                   flow_rate_ ? flow_rate_->force() : c_.body_force, comm_.size());
+    fmt::print("narwhal: {} after {} iterations, residual drop {:.2e}, {:.1f} s{}{}\n", to_string(s_.status),
+               s_.iterations, s_.residual_drop, s_.wall_seconds, s_.message.empty() ? "" : ": ", s_.message);
+  }
+
+  // Surfaces and the solution from the assembled field (checkpoint() gathered it), as a serial run.
+  void write_fields() {
+    FlowField& out = pieces_ ? whole_field_ : field_;
+    Grid& out_grid = pieces_ ? whole_ : g_;
+    const std::vector<int> owner = out_grid.owner;
+    out_grid.owner.clear();  // the root holds every block now: a serial ghost fill
+    out_grid.halo.reset();
+    fill_ghosts(out_grid, out, fp_);
+    for (const auto& [name, list] : wall_faces(out_grid, out, fp_))
+      write_surface_csv(file(fmt::format("surface_{}.csv", name)), list);
+    std::vector<std::string> cgns_turb;
+    for (int m = 0; turb_ && m < turb_->num_variables(); ++m) cgns_turb.push_back(turb_->cgns_name(m));
+    write_cgns_solution(file("solution.cgns"), out_grid, out, cgns_turb, 1.0 / fp_.reynolds);
+    out_grid.owner = owner;
+    out_grid.halo.reset();
+  }
+
+  // The root writes files in the case's layout from every rank's cells.
+  FlowField& assemble() {
+    gather_to_root(g_, field_);
+    if (!pieces_) return field_;
+    if (root_) {
+      if (whole_field_.Q.empty()) whole_field_.allocate(whole_, fp_, c_.initial);
+      copy_between_layouts(g_, field_, whole_, whole_field_, true);
+    }
+    return whole_field_;
+  }
+
+  NewtonSolver& solver() { return mg_ ? mg_->finest() : *single_; }
+  std::string file(const std::string& name) const { return (fs::path(opt_.out_dir) / name).string(); }
+  Real elapsed() const {
+    return info_.wall_seconds + std::chrono::duration<Real>(Clock::now() - started_).count();
+  }
+
+  const CaseConfig& c_;
+  const RunOptions& opt_;
+  const Communicator comm_;
+  const bool root_;
+  const int max_it_;
+
+  Grid g_, whole_;  // the computed pieces, and the case's own blocks when they differ
+  bool pieces_ = false;
+  FlowParams fp_;
+  FlowField field_, whole_field_;
+  std::unique_ptr<FlowRateControl> flow_rate_;
+
+  std::unique_ptr<OutputDirectory> out_dir_;  // the root's lock on the output directory
+  bool continuing_ = false, own_restart_ = false;
+  std::string restart_path_;
+  int last_restart_ = -1;  // iteration of the newest restart.h5 of this run's lineage in the directory
+  RestartInfo info_;
+
+  std::unique_ptr<NewtonSolver> single_;
+  std::unique_ptr<Multigrid> mg_;
+  std::unique_ptr<TurbulenceModel> turb_;
+
+  Monitors monitors_{0};
+  std::unique_ptr<HistoryWriter> history_;
+  std::map<std::string, ForceCoefficients> forces_;
+  std::map<std::string, std::vector<WallFace>> faces_;  // reused every iteration
+  RunSummary s_;
+  Clock::time_point started_ = Clock::now(), last_print_ = Clock::now();
+};
+
+}  // namespace
+
+RunSummary run_case(const CaseConfig& c, const RunOptions& opt) { return SteadyRun(c, opt).execute(); }
 
 }  // namespace narwhal
