@@ -9,25 +9,11 @@ from pathlib import Path
 import support  # noqa: F401
 
 from harness.casefile import load_rung
+from test_casefile import GOOD
 from harness.runner import built_with_mpi, run_rung
 
-RUNG = """
-[rung]
-title = "t"
-tiers = ["quick"]
-
-[[run]]
-id = "a"
-input = "in.toml"
-ranks = 2
-
-[[check]]
-name = "c"
-extract = { kind = "run_json", run = "a", field = "iterations" }
-comparator = "max"
-tolerance = 1.0
-rationale = "because"
-"""
+# A rung whose one run asks for two MPI ranks.
+RUNG = GOOD.replace('input = "in.toml"', 'input = "in.toml"\nranks = 2')
 
 
 def fake_narwhal(directory, version_line):

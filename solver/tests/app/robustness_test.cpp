@@ -97,47 +97,14 @@ Plot3dCase plot3d_case() {
   Plot3dCase p{test::fresh_temp_dir("narwhal_p3d_case"), ""};
   write_plot3d_ascii((p.dir / "box.xyz").string(),
                      {make_box("b", uniform_nodes(0, 2, 8), uniform_nodes(0, 1, 4), uniform_nodes(0, 0.1, 1))});
-  p.text = R"([grid]
-type = "plot3d"
-file = "box.xyz"
-[[grid.patch]]
-block = 1
-side = "imin"
-label = "in"
-[[grid.patch]]
-block = 1
-side = "imax"
-label = "out"
-[[grid.patch]]
-block = 1
-side = "jmin"
-label = "wall"
-range_i = [0, 8]
-[[grid.patch]]
-block = 1
-side = "jmax"
-label = "top"
-[[grid.patch]]
-block = 1
-side = "kmin"
-label = "sym"
-[[grid.patch]]
-block = 1
-side = "kmax"
-label = "sym"
-[flow]
-reynolds = 100.0
-[bc.in]
-type = "inflow"
-[bc.out]
-type = "outflow"
-[bc.wall]
-type = "wall"
-[bc.top]
-type = "farfield"
-[bc.sym]
-type = "symmetry"
-)";
+  p.text = "[grid]\ntype = \"plot3d\"\nfile = \"box.xyz\"\n";
+  const std::pair<const char*, const char*> patches[] = {{"imin", "in"},   {"imax", "out"}, {"jmin", "wall"},
+                                                         {"jmax", "top"},  {"kmin", "sym"}, {"kmax", "sym"}};
+  for (const auto& [side, label] : patches)
+    p.text += fmt::format("[[grid.patch]]\nblock = 1\nside = \"{}\"\nlabel = \"{}\"\n{}", side, label,
+                          std::string(side) == "jmin" ? "range_i = [0, 8]\n" : "");
+  p.text += "[flow]\nreynolds = 100.0\n[bc.in]\ntype = \"inflow\"\n[bc.out]\ntype = \"outflow\"\n"
+            "[bc.wall]\ntype = \"wall\"\n[bc.top]\ntype = \"farfield\"\n[bc.sym]\ntype = \"symmetry\"\n";
   spit(p.dir / "case.toml", p.text);
   return p;
 }
@@ -445,6 +412,18 @@ TEST(Hardening, FullDiskIsAnErrorNamingTheFile) {
     }
   }
   EXPECT_FALSE(fs::exists(d / "surface_plate.csv"));  // never a partial file
+}
+
+TEST(SurfaceOutput, SignedWallShearHasTheMagnitudeAndTheSignOfItsStreamwisePart) {
+  const fs::path d = test::fresh_temp_dir("narwhal_surface");
+  std::vector<WallFace> faces(2);
+  faces[0].cf = Vec3(-0.3, 0.4, 0.0);  // reversed flow: negative, magnitude 0.5
+  faces[1].cf = Vec3(0.6, 0.0, -0.8);
+  write_surface_csv((d / "surface_wall.csv").string(), faces);
+  const auto cols = test::read_csv((d / "surface_wall.csv").string());
+  ASSERT_EQ(cols.count("cf_signed"), 1u);
+  EXPECT_NEAR(cols.at("cf_signed")[0], -0.5, 1e-12);
+  EXPECT_NEAR(cols.at("cf_signed")[1], 1.0, 1e-12);
 }
 
 TEST(Hardening, RunJsonStaysValidWithNonFiniteNumbers) {
