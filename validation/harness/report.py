@@ -20,6 +20,9 @@ from .extract import read_csv  # noqa: E402
 from .ladder import load_ladder  # noqa: E402
 
 ONE_SIDED = {"max": "≤", "min": "≥"}
+# Checks judged against a bound: the summary shows the bound instead of a reference and a
+# delta (a GCI is bounded above; its reference value, if any, is drawn in its figure).
+BOUNDED = dict(ONE_SIDED, gci="≤")
 
 CSS = """
 body{font-family:system-ui,sans-serif;margin:2em;color:#222;max-width:1200px}
@@ -63,7 +66,7 @@ def _fmt(v):
 def _check_cells(c):
     """computed, reference, delta and tolerance cells of a check: a one-sided check shows
     its bound (<= or >= the tolerance) in place of a reference, and no delta."""
-    bound = ONE_SIDED.get(c["comparator"])
+    bound = BOUNDED.get(c["comparator"])
     if bound:
         return (f"<td class=num>{_fmt(c.get('computed'))}</td><td class=num>{bound} {_fmt(c['tolerance'])}</td>"
                 f"<td class=num>—</td><td class=num>(bound)</td>")
