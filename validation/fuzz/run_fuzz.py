@@ -60,7 +60,9 @@ def execute(cmd, timeout, cwd):
 
 
 def judge(name, cmd, file_named, args):
+    t0 = time.monotonic()
     rc, err, mb = execute(cmd, args.timeout, args.work)
+    seconds = time.monotonic() - t0
     verdict = "ok"
     if rc is None:
         verdict = f"hang (over {args.timeout:g} s)"
@@ -78,6 +80,7 @@ def judge(name, cmd, file_named, args):
         elif not LOCATOR.search(err):
             verdict = "message does not say where (key, byte, dataset ...)"
     return {"name": name, "command": " ".join(map(str, cmd)), "exit": rc, "peak_mb": round(mb, 1),
+            "seconds": round(seconds, 2),
             "verdict": verdict, "stderr": err[-2000:]}
 
 
@@ -205,12 +208,14 @@ def main():
         by_exit[r["exit"]] = by_exit.get(r["exit"], 0) + 1
     summary = {"mutants": len(jobs), "processes": len(results), "failed": len(bad), "exit_counts": by_exit,
                "peak_mb": max((r["peak_mb"] for r in results), default=0.0),
-               "slowest_s": None, "wall_seconds": round(time.monotonic() - started, 1)}
+               "slowest_s": max((r["seconds"] for r in results), default=0.0),
+               "wall_seconds": round(time.monotonic() - started, 1)}
     (Path(args.work) / "fuzz_results.json").write_text(json.dumps({"summary": summary, "results": results}, indent=1))
     for r in bad:
         print(f"FAIL {r['name']}: {r['verdict']}\n  {r['command']}\n  " + "\n  ".join(r["stderr"].splitlines()[-6:]))
     print(f"fuzz: {len(jobs)} mutants, {len(results)} processes, exits {dict(sorted(by_exit.items(), key=str))}, "
-          f"peak memory {summary['peak_mb']:.0f} MB, {summary['wall_seconds']} s; details in "
+          f"peak memory {summary['peak_mb']:.0f} MB, slowest process {summary['slowest_s']:.1f} s, "
+          f"{summary['wall_seconds']} s in all; details in "
           f"{Path(args.work) / 'fuzz_results.json'}")
     print(f"{len(results) - len(bad)} passed, {len(bad)} failed")
     return 1 if bad else 0
