@@ -1,5 +1,7 @@
 #include "app/driver.hpp"
 
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -68,6 +70,7 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
   j["blocks"] = g.blocks.size();
   j["ranks"] = ranks;
   j["residual_drop"] = s.residual_drop;
+  j["cost"] = {{"seconds_per_cycle", s.seconds_per_cycle}, {"peak_bytes_per_cell", s.peak_bytes_per_cell}};
   j["final_residual"] = {{"p", last.l2[0]}, {"u", last.l2[1]}, {"v", last.l2[2]}, {"w", last.l2[3]}};
   j["settings"] = {{"reynolds", c.flow.reynolds},
                    {"beta", c.flow.beta},
@@ -291,6 +294,18 @@ class SteadyRun {
                                solver().describe_largest_residual());
     if (opt_.progress && root_) fmt::print("\n");
     s_.wall_seconds = comm_.max(elapsed());
+    measure_cost();
+  }
+
+  // Collective (every rank takes part): the slowest rank's time, all ranks' memory.
+  void measure_cost() {
+    const int ran = s_.iterations - info_.iteration;
+    const Real seconds = comm_.max(std::chrono::duration<Real>(Clock::now() - started_).count());
+    s_.seconds_per_cycle = ran > 0 ? seconds / ran : 0.0;
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    const long long bytes = comm_.sum(static_cast<long long>(usage.ru_maxrss) * 1024);  // ru_maxrss is in KiB
+    s_.peak_bytes_per_cell = static_cast<Real>(bytes) / static_cast<Real>(std::max<std::size_t>(g_.cells(), 1));
   }
 
   // The residual of the state entering this iteration (or cycle), then the update.
@@ -362,6 +377,8 @@ class SteadyRun {
                    flow_rate_ ? flow_rate_->force() : c_.body_force, comm_.size());
     fmt::print("narwhal: {} after {} iterations, residual drop {:.2e}, {:.1f} s{}{}\n", to_string(s_.status),
                s_.iterations, s_.residual_drop, s_.wall_seconds, s_.message.empty() ? "" : ": ", s_.message);
+    fmt::print("narwhal: cost {:.3g} ms per {}, peak memory {:.3g} kB per cell\n", 1e3 * s_.seconds_per_cycle,
+               mg_ ? "cycle" : "iteration", s_.peak_bytes_per_cell / 1024.0);
   }
 
   // Surfaces and the solution from the assembled field (checkpoint() gathered it), as a serial run.

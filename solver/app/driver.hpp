@@ -23,6 +23,10 @@ struct RunSummary {
   Real wall_seconds = 0.0;
   Real residual_drop = 1.0;
   std::string message;
+  // Cost of this process's run: wall seconds per iteration (or cycle) it ran, and its
+  // peak resident memory (all ranks together) per cell of the grid.
+  Real seconds_per_cycle = 0.0;
+  Real peak_bytes_per_cell = 0.0;
 };
 
 RunSummary run_case(const CaseConfig& c, const RunOptions& opt);

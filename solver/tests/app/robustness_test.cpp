@@ -439,6 +439,19 @@ TEST(Hardening, RunJsonStaysValidWithNonFiniteNumbers) {
   EXPECT_EQ(j["status"], "diverged");
 }
 
+TEST(RunCost, TimePerCycleAndMemoryPerCellAreReported) {
+  RunOptions o;
+  o.out_dir = test::fresh_temp_dir("narwhal_cost").string();
+  o.max_iterations = 4;
+  const RunSummary s = run_case(load_case(test::source_path(kPlate), {"grid.cells_plate=12", "grid.cells_runup=4",
+                                                                     "grid.cells_normal=8"}), o);
+  EXPECT_GT(s.seconds_per_cycle, 0.0);
+  EXPECT_GT(s.peak_bytes_per_cell, 0.0);
+  const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(o.out_dir) / "run.json"));
+  EXPECT_DOUBLE_EQ(j["cost"]["seconds_per_cycle"].get<double>(), s.seconds_per_cycle);
+  EXPECT_DOUBLE_EQ(j["cost"]["peak_bytes_per_cell"].get<double>(), s.peak_bytes_per_cell);
+}
+
 TEST(Hardening, DivergingRunInAnOldDirectoryDoesNotClaimTheOldRestart) {
   const fs::path d = test::fresh_temp_dir("narwhal_old_dir");
   RunOptions o;
