@@ -70,6 +70,11 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
   j["blocks"] = g.blocks.size();
   j["ranks"] = ranks;
   j["residual_drop"] = s.residual_drop;
+  nlohmann::ordered_json drops = {{"p", s.equation_drops[0]}, {"u", s.equation_drops[1]},
+                                  {"v", s.equation_drops[2]}, {"w", s.equation_drops[3]}};
+  for (const auto& [name, d] : s.turbulence_drops) drops[name] = d;
+  j["equation_drops"] = drops;  // each against the largest residual it has had
+  j["turbulence_drop"] = s.turbulence_drop;
   j["cost"] = {{"seconds_per_cycle", s.seconds_per_cycle}, {"peak_bytes_per_cell", s.peak_bytes_per_cell}};
   j["final_residual"] = {{"p", last.l2[0]}, {"u", last.l2[1]}, {"v", last.l2[2]}, {"w", last.l2[3]}};
   j["settings"] = {{"reynolds", c.flow.reynolds},
@@ -108,6 +113,9 @@ using Clock = std::chrono::steady_clock;
 struct Monitors {
   IterationNorms last;           // mean-flow residual norms of the latest iteration
   Real drop = 1.0;               // |R| / |R_0| of the mean flow
+  // The largest residual each equation has had: its reference for the per-equation drop
+  // (the first residual can be zero, as continuity's is from a uniform start).
+  std::array<Real, kNumEq> reference_l2{-1.0, -1.0, -1.0, -1.0};
   std::vector<Real> turb_res;    // the turbulence model's residuals
   std::vector<Real> turb_ref;    // the largest each has had (its reference)
   Real turb_drop = 0.0;          // the largest drop of the model's residuals
@@ -115,6 +123,16 @@ struct Monitors {
   explicit Monitors(std::size_t turbulence_variables)
       : turb_res(turbulence_variables, 0.0), turb_ref(turbulence_variables, -1.0) {}
 
+  void take_mean_flow(const IterationNorms& n, Real reference_norm) {
+    last = n;
+    drop = n.total / reference_norm;
+    for (int m = 0; m < kNumEq; ++m) reference_l2[m] = std::max(reference_l2[m], n.l2[m]);
+  }
+  std::array<Real, kNumEq> equation_drops() const {
+    std::array<Real, kNumEq> d{};
+    for (int m = 0; m < kNumEq; ++m) d[m] = reference_l2[m] > 0.0 ? last.l2[m] / reference_l2[m] : 0.0;
+    return d;
+  }
   void take_turbulence(const TurbulenceNorms& n) {
     turb_drop = 0.0;
     for (std::size_t m = 0; m < turb_res.size(); ++m) {
@@ -131,6 +149,7 @@ struct Monitors {
     last.total = info.residual_total;
     last.cfl = info.cfl;
     drop = info.residual_drop;
+    reference_l2 = info.residual_reference;
     turb_drop = info.turbulence_drop;
     for (std::size_t m = 0; m < turb_res.size(); ++m) {
       turb_res[m] = info.turbulence_residual[m];
@@ -146,6 +165,7 @@ struct Monitors {
     r.residual_total = last.total;
     r.cfl = last.cfl;
     r.residual_drop = drop;
+    r.residual_reference = reference_l2;
     r.turbulence_drop = turb_drop;
   }
   bool converged(Real target) const { return drop < target && turb_drop < target; }
@@ -243,12 +263,12 @@ class SteadyRun {
 
   // Wall groups are known from the patches; forces appear in the history per group.
   void open_monitors() {
-    std::vector<std::string> groups, turb_names;
+    std::vector<std::string> groups;
     for (const auto& [name, list] : wall_faces(g_, field_, fp_)) groups.push_back(name);  // every rank: all groups
-    for (int m = 0; turb_ && m < turb_->num_variables(); ++m) turb_names.push_back(turb_->variable_name(m));
-    monitors_ = Monitors(turb_names.size());
+    for (int m = 0; turb_ && m < turb_->num_variables(); ++m) turb_names_.push_back(turb_->variable_name(m));
+    monitors_ = Monitors(turb_names_.size());
     if (root_)
-      history_ = std::make_unique<HistoryWriter>(file("history.csv"), groups, turb_names,
+      history_ = std::make_unique<HistoryWriter>(file("history.csv"), groups, turb_names_,
                                                  continuing_ ? std::optional<int>(info_.iteration) : std::nullopt);
     s_.iterations = info_.iteration;
     if (!opt_.restart) return;
@@ -310,8 +330,8 @@ class SteadyRun {
 
   // The residual of the state entering this iteration (or cycle), then the update.
   void step() {
-    monitors_.last = mg_ ? mg_->cycle() : solver().iterate();
-    monitors_.drop = monitors_.last.total / solver().reference_norm();
+    const IterationNorms n = mg_ ? mg_->cycle() : solver().iterate();
+    monitors_.take_mean_flow(n, solver().reference_norm());
     if (turb_) monitors_.take_turbulence(turb_->advance(g_, field_, fp_, monitors_.last.cfl));
   }
 
@@ -371,12 +391,21 @@ class SteadyRun {
                         ? fmt::format("; the last good restart.h5 (iteration {}) is kept", last_restart_)
                         : std::string("; no restart was written before");
     }
+    s_.equation_drops = monitors_.equation_drops();
+    s_.turbulence_drops.clear();
+    for (std::size_t m = 0; m < turb_names_.size(); ++m)
+      s_.turbulence_drops.emplace_back(
+          turb_names_[m], monitors_.turb_ref[m] > 0.0 ? monitors_.turb_res[m] / monitors_.turb_ref[m] : 0.0);
+    s_.turbulence_drop = monitors_.turb_drop;
     comm_.barrier();
     if (!root_) return;
     write_run_json(file("run.json"), c_, g_, s_, monitors_.last, forces_,
                    flow_rate_ ? flow_rate_->force() : c_.body_force, comm_.size());
-    fmt::print("narwhal: {} after {} iterations, residual drop {:.2e}, {:.1f} s{}{}\n", to_string(s_.status),
-               s_.iterations, s_.residual_drop, s_.wall_seconds, s_.message.empty() ? "" : ": ", s_.message);
+    std::string drops = fmt::format("p {:.1e}, u {:.1e}, v {:.1e}, w {:.1e}", s_.equation_drops[0],
+                                    s_.equation_drops[1], s_.equation_drops[2], s_.equation_drops[3]);
+    for (const auto& [name, d] : s_.turbulence_drops) drops += fmt::format(", {} {:.1e}", name, d);
+    fmt::print("narwhal: {} after {} iterations, residual drop {:.2e} ({}), {:.1f} s{}{}\n", to_string(s_.status),
+               s_.iterations, s_.residual_drop, drops, s_.wall_seconds, s_.message.empty() ? "" : ": ", s_.message);
     fmt::print("narwhal: cost {:.3g} ms per {}, peak memory {:.3g} kB per cell\n", 1e3 * s_.seconds_per_cycle,
                mg_ ? "cycle" : "iteration", s_.peak_bytes_per_cell / 1024.0);
   }
@@ -437,6 +466,7 @@ class SteadyRun {
   std::unique_ptr<Multigrid> mg_;
   std::unique_ptr<TurbulenceModel> turb_;
 
+  std::vector<std::string> turb_names_;  // the turbulence model's variables
   Monitors monitors_{0};
   std::unique_ptr<HistoryWriter> history_;
   std::map<std::string, ForceCoefficients> forces_;

@@ -1,6 +1,9 @@
 #pragma once
 // One steady run from a case file to its outputs (the contract the harness reads).
+#include <array>
 #include <optional>
+#include <utility>
+#include <vector>
 #include <string>
 
 #include "config/case_config.hpp"
@@ -22,6 +25,12 @@ struct RunSummary {
   int iterations = 0;
   Real wall_seconds = 0.0;
   Real residual_drop = 1.0;
+  // Each equation's drop against the largest residual it has had (p, u, v, w; 0 for an
+  // equation that never had a residual), and the turbulence model's variables' drops
+  // measured the same way (name, drop).
+  std::array<Real, 4> equation_drops{1.0, 1.0, 1.0, 1.0};
+  std::vector<std::pair<std::string, Real>> turbulence_drops;
+  Real turbulence_drop = 0.0;  // the largest of them: the one convergence waits for
   std::string message;
   // Cost of this process's run: wall seconds per iteration (or cycle) it ran, and its
   // peak resident memory (all ranks together) per cell of the grid.

@@ -244,10 +244,12 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
     write_scalar_attr(path, file, "turbulence_reference_0", H5T_NATIVE_DOUBLE, info.turbulence_reference[0]);
     write_scalar_attr(path, file, "turbulence_reference_1", H5T_NATIVE_DOUBLE, info.turbulence_reference[1]);
     write_scalar_attr(path, file, "body_force", H5T_NATIVE_DOUBLE, info.body_force);
-    const std::array<double, 10> monitors{info.residual[0], info.residual[1], info.residual[2], info.residual[3],
+    const std::array<double, 14> monitors{info.residual[0], info.residual[1], info.residual[2], info.residual[3],
                                           info.residual_total, info.cfl, info.residual_drop,
                                           info.turbulence_residual[0], info.turbulence_residual[1],
-                                          info.turbulence_drop};
+                                          info.turbulence_drop, info.residual_reference[0],
+                                          info.residual_reference[1], info.residual_reference[2],
+                                          info.residual_reference[3]};
     write_dataset(path, file, "last_iteration", {monitors.size()}, monitors.data());
     write_scalar_attr(path, file, "block_count", H5T_NATIVE_INT, static_cast<int>(g.blocks.size()));
     write_scalar_attr(path, file, "turbulence_variables", H5T_NATIVE_INT, f.turb.empty() ? 0 : 2);
@@ -326,14 +328,16 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
   info.turbulence_reference[0] = read_scalar_attr<double>(path, file, "turbulence_reference_0", H5T_NATIVE_DOUBLE);
   info.turbulence_reference[1] = read_scalar_attr<double>(path, file, "turbulence_reference_1", H5T_NATIVE_DOUBLE);
   std::vector<double> m;
-  // res_p, res_u, res_v, res_w, total, cfl, drop, turbulence residuals (2), turbulence drop
-  read_dataset(path, file, "last_iteration", {10}, m);
+  // res_p, res_u, res_v, res_w, total, cfl, drop, turbulence residuals (2), turbulence drop,
+  // the largest res_p, res_u, res_v, res_w so far
+  read_dataset(path, file, "last_iteration", {14}, m);
   info.residual = {m[0], m[1], m[2], m[3]};
   info.residual_total = m[4];
   info.cfl = m[5];
   info.residual_drop = m[6];
   info.turbulence_residual = {m[7], m[8]};
   info.turbulence_drop = m[9];
+  info.residual_reference = {m[10], m[11], m[12], m[13]};
   const int blocks = read_scalar_attr<int>(path, file, "block_count", H5T_NATIVE_INT);
   if (blocks != static_cast<int>(g.blocks.size()))
     fail("restart '{}' holds {} block(s); this run's grid has {}: it was written for another grid", path, blocks,

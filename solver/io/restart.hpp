@@ -28,6 +28,7 @@ struct RestartInfo {
   // a restart written at its end (converged, or at the limit) reports exactly what the
   // uninterrupted run did without iterating again.
   std::array<Real, 4> residual{};  // RMS residual per equation (IterationNorms::l2)
+  std::array<Real, 4> residual_reference{-1.0, -1.0, -1.0, -1.0};  // the largest so far, per equation
   Real residual_total = 0.0;
   Real cfl = 0.0;
   Real residual_drop = 1.0;                  // |R| / |R_0| of the mean flow

@@ -90,6 +90,7 @@ class KillAndResume(unittest.TestCase):
         self.assertEqual(a["iterations"], b["iterations"])
         self.assertEqual(a["forces"], b["forces"])  # the same doubles, bit for bit
         self.assertEqual(a["final_residual"], b["final_residual"])
+        self.assertEqual(a["equation_drops"], b["equation_drops"])
         ha, ra = history(work / "whole" / "history.csv")
         hb, rb = history(out / "history.csv")
         self.assertEqual(ha, hb)

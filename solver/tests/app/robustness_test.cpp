@@ -450,6 +450,13 @@ TEST(RunCost, TimePerCycleAndMemoryPerCellAreReported) {
   const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(o.out_dir) / "run.json"));
   EXPECT_DOUBLE_EQ(j["cost"]["seconds_per_cycle"].get<double>(), s.seconds_per_cycle);
   EXPECT_DOUBLE_EQ(j["cost"]["peak_bytes_per_cell"].get<double>(), s.peak_bytes_per_cell);
+  // Every equation's drop, each against the largest residual it has had.
+  for (const char* eq : {"p", "u", "v", "w"}) {
+    ASSERT_TRUE(j["equation_drops"].contains(eq)) << eq;
+    EXPECT_GE(j["equation_drops"][eq].get<double>(), 0.0);
+    EXPECT_LE(j["equation_drops"][eq].get<double>(), 1.0);
+  }
+  EXPECT_GT(j["equation_drops"]["u"].get<double>(), 0.0);
 }
 
 TEST(Hardening, DivergingRunInAnOldDirectoryDoesNotClaimTheOldRestart) {
