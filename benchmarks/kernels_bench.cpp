@@ -3,6 +3,7 @@
 // Run: build/benchmarks/narwhal_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "physics/ac_flux.hpp"
 #include "physics/planar.hpp"
 #include "physics/residual.hpp"
+#include "turbulence/model.hpp"
 
 using namespace narwhal;
 
@@ -153,6 +155,57 @@ void BM_MultigridVCyclePerCell(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations() * p.g.cells());
 }
 BENCHMARK(BM_MultigridVCyclePerCell)->Unit(benchmark::kMillisecond);
+
+// The TMR plate's 137 x 97 level with a turbulence model, advanced a few cycles from
+// the uniform start (planar, as `narwhal run` treats it).
+struct TurbulentPlate {
+  CaseConfig c;
+  Grid g;
+  FlowField f;
+  FlowParams fp;
+  std::unique_ptr<Multigrid> mg;
+  std::unique_ptr<TurbulenceModel> model;
+  TurbulentPlate(const std::string& model_name, std::vector<std::string> sets) {
+    sets.push_back("grid.coarsen=1");
+    c = load_case(std::string(NARWHAL_SOURCE_DIR) + "/validation/cases/tmr_flat_plate/flat_plate_" + model_name + ".toml",
+                  sets);
+    g = build_grid(c);
+    fp = flow_params(c);
+    f.allocate(g, fp, c.initial);
+    mark_planar_blocks(g, f, fp);
+    mg = std::make_unique<Multigrid>(g, f, fp, c.solver.newton, c.solver.multigrid);
+    model = make_turbulence_model(c.turbulence, g);
+    model->initialize(g, f, fp, false);
+    fill_ghosts(g, f, fp);
+    model->update_viscosity(g, f, fp);
+    if (c.turbulence.coupling == "smoothing")
+      mg->set_fine_smoothing_hook([this](Real cfl) { model->advance(g, f, fp, cfl); });
+  }
+  void cycle() {
+    const IterationNorms n = mg->cycle();
+    if (c.turbulence.coupling != "smoothing") model->advance(g, f, fp, n.cfl);
+  }
+};
+
+// One turbulent V-cycle (SA, its default scheme: the model updated after every
+// fine-level smoothing step with line relaxation), per cell of the finest level.
+void BM_TurbulentVCyclePerCell(benchmark::State& st) {
+  TurbulentPlate p("sa", {});
+  for (int i = 0; i < 10; ++i) p.cycle();
+  for (auto _ : st) p.cycle();
+  st.SetItemsProcessed(st.iterations() * p.g.cells());
+}
+BENCHMARK(BM_TurbulentVCyclePerCell)->Unit(benchmark::kMillisecond);
+
+// One model update (assembly, 8 sweep pairs, update) of SA, with the line (arg 1)
+// or the point (arg 0) smoother: what a line costs against a point.
+void BM_TurbulenceUpdatePerCell(benchmark::State& st) {
+  TurbulentPlate p("sa", {st.range(0) ? "turbulence.smoother=\"lines\"" : "turbulence.smoother=\"points\""});
+  for (int i = 0; i < 10; ++i) p.cycle();
+  for (auto _ : st) p.model->advance(p.g, p.f, p.fp, 1e6);
+  st.SetItemsProcessed(st.iterations() * p.g.cells());
+}
+BENCHMARK(BM_TurbulenceUpdatePerCell)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // STREAM-like triad a = b + s c over arrays far larger than the caches: the
 // machine's sustainable memory bandwidth (bytes_per_second: 3 x 8 bytes per element).

@@ -89,7 +89,9 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
                    {"residual_drop_target", c.solver.residual_drop},
                    {"multigrid_levels", c.solver.multigrid.levels},
                    {"multigrid_cycle", c.solver.multigrid.gamma == 2 ? "W" : "V"},
-                   {"turbulence_model", c.turbulence.model}};
+                   {"turbulence_model", c.turbulence.model},
+                   {"turbulence_smoother", c.turbulence.smoother},
+                   {"turbulence_coupling", c.turbulence.coupling}};
   j["body_force"] = {body_force[0], body_force[1], body_force[2]};
   nlohmann::ordered_json f = nlohmann::ordered_json::object();
   for (const auto& [name, fc] : forces)
@@ -239,7 +241,8 @@ class SteadyRun {
   }
 
   // Single grid: one Newton-SGS iteration per step; multigrid: one FAS cycle. The
-  // turbulence model is loosely coupled: one update after every mean-flow step (§8.6).
+  // turbulence model is loosely coupled (§8.6): one update after every mean-flow
+  // step, or with coupling "smoothing" after every fine-level smoothing step.
   void build_solvers() {
     if (c_.solver.planar_shortcut) {
       const std::string planar = mark_planar_blocks(g_, field_, fp_);
@@ -257,6 +260,10 @@ class SteadyRun {
       turb_->initialize(g_, field_, fp_, opt_.restart.has_value());
       fill_ghosts(g_, field_, fp_);
       turb_->update_viscosity(g_, field_, fp_);
+      if (mg_ && c_.turbulence.coupling == "smoothing") {
+        model_in_cycle_ = true;
+        mg_->set_fine_smoothing_hook([this](Real cfl) { model_norms_ = turb_->advance(g_, field_, fp_, cfl); });
+      }
     }
     fill_ghosts(g_, field_, fp_);
   }
@@ -332,7 +339,9 @@ class SteadyRun {
   void step() {
     const IterationNorms n = mg_ ? mg_->cycle() : solver().iterate();
     monitors_.take_mean_flow(n, solver().reference_norm());
-    if (turb_) monitors_.take_turbulence(turb_->advance(g_, field_, fp_, monitors_.last.cfl));
+    if (!turb_) return;
+    if (!model_in_cycle_) model_norms_ = turb_->advance(g_, field_, fp_, monitors_.last.cfl);
+    monitors_.take_turbulence(model_norms_);  // in the cycle: those of its last update
   }
 
   void measure_forces() {
@@ -465,6 +474,8 @@ class SteadyRun {
   std::unique_ptr<NewtonSolver> single_;
   std::unique_ptr<Multigrid> mg_;
   std::unique_ptr<TurbulenceModel> turb_;
+  bool model_in_cycle_ = false;  // the model is updated by the multigrid's smoothing hook
+  TurbulenceNorms model_norms_;  // of the model's latest update
 
   std::vector<std::string> turb_names_;  // the turbulence model's variables
   Monitors monitors_{0};

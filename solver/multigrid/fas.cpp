@@ -82,6 +82,7 @@ void Multigrid::smooth(int l, int iterations, Real cfl, const IterationNorms* fr
       levels_[l].solver->relax_and_update(*fresh, cfl, reuse);
     else
       levels_[l].solver->iterate_with_cfl(cfl, reuse && it == 0);
+    if (l == 0 && after_fine_smoothing_) after_fine_smoothing_(cfl);
   }
 }
 

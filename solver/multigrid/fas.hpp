@@ -4,6 +4,7 @@
 // restriction, summed residual restriction, trilinear (index-space) prolongation
 // of corrections with homogeneous-BC ghosts, first-order fluxes on coarse levels.
 // The forcing term carries everything a dual-time outer loop would add.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -37,6 +38,11 @@ class Multigrid {
   const std::string& level_note() const { return note_; }
   NewtonSolver& finest() { return *levels_[0].solver; }
 
+  // Called after every smoothing iteration on the finest level, with its CFL: a
+  // loosely coupled turbulence model updated inside the cycle, so that the mean
+  // flow's post-smoothing already sees the model's update (TurbulenceSettings::coupling).
+  void set_fine_smoothing_hook(std::function<void(Real cfl)> hook) { after_fine_smoothing_ = std::move(hook); }
+
  private:
   struct Level {
     Grid* grid = nullptr;
@@ -57,6 +63,7 @@ class Multigrid {
   MultigridSettings ms_;
   std::string note_;
   int cycles_ = 0;
+  std::function<void(Real)> after_fine_smoothing_;
 };
 
 }  // namespace narwhal

@@ -14,16 +14,29 @@ const std::vector<TurbulenceModelInfo>& turbulence_models() {
   static const std::vector<TurbulenceModelInfo> models = {
       {"laminar", "no turbulence model"},
       {"baldwin-lomax", "Baldwin-Lomax algebraic model (turbulence/baldwin_lomax.hpp)"},
-      {"sa", "Spalart-Allmaras one-equation model, SA-neg as on NASA TMR (turbulence/spalart_allmaras.hpp)"},
+      {"sa", "Spalart-Allmaras one-equation model, SA-neg as on NASA TMR (turbulence/spalart_allmaras.hpp)", "lines",
+       "smoothing"},
       {"launder-sharma", "Launder-Sharma low-Re k-epsilon (turbulence/launder_sharma.hpp)"},
       {"myong-kasagi", "Myong-Kasagi low-Re k-epsilon (turbulence/myong_kasagi.hpp)"},
       {"nonlinear-k-epsilon", "the paper's low-Re non-linear (quadratic stress) k-epsilon on Myong-Kasagi (turbulence/nonlinear_k_epsilon.hpp)"},
-      {"sst", "Menter SST k-omega, the 2003 version as on NASA TMR (turbulence/menter_sst.hpp)"},
+      {"sst", "Menter SST k-omega, the 2003 version as on NASA TMR (turbulence/menter_sst.hpp)", "lines", "smoothing",
+       1.0},
   };
   return models;
 }
 
-std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings& s, const Grid& g) {
+const TurbulenceModelInfo* find_turbulence_model(const std::string& name) {
+  for (const auto& m : turbulence_models())
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings& settings, const Grid& g) {
+  TurbulenceSettings s = settings;
+  if (const TurbulenceModelInfo* info = find_turbulence_model(s.model)) {
+    if (s.smoother.empty()) s.smoother = info->smoother;
+    if (s.coupling.empty()) s.coupling = info->coupling;
+  }
   if (s.model == "laminar") return nullptr;
   if (s.model == "baldwin-lomax") return std::make_unique<BaldwinLomax>(s, g);
   if (s.model == "sa") return std::make_unique<SpalartAllmaras>(s, g);

@@ -3,11 +3,13 @@
 // selection by name.
 //
 // A model advances its own variables with the mean flow frozen ("loosely coupled",
-// §8.6): the driver calls `advance` after every mean-flow iteration or multigrid
-// cycle; `advance` ends by writing the effective viscosity nu = 1/Re + nu_t into the
-// flow field, which the next mean-flow step (and its coarse levels) uses. Loose
-// coupling keeps the mean-flow 4x4 blocks and their tuned kernels; the coupling
-// error is a lag of one step, gone at convergence.
+// §8.6): the driver calls `advance` after every mean-flow iteration, after every
+// multigrid cycle or after every fine-level smoothing step of a cycle (the model's
+// `coupling`); `advance` ends by writing the effective viscosity nu = 1/Re + nu_t
+// into the flow field, which the next mean-flow step (and its coarse levels) uses.
+// Loose coupling keeps the mean-flow 4x4 blocks and their tuned kernels; the
+// coupling error is a lag of one step, gone at convergence. How the coupling and the
+// model's smoother were chosen: turbulence/DESIGN.md.
 //
 // Usage (case file):
 //   [turbulence]
@@ -30,10 +32,16 @@ struct TurbulenceSettings {
   Real intensity = 0.001;           // free-stream turbulence intensity Tu (k-based models, §8.7)
   int iterations = 1;               // model iterations per mean-flow step
   int sgs_iterations = 8;           // symmetric Gauss-Seidel pairs per model iteration (scalar blocks: cheap)
+  // Relaxation of the model's linear equations: "lines" (line Gauss-Seidel in each
+  // block's stiffest direction) or "points". When a multigrid run updates the model:
+  // "cycle" (after every cycle) or "smoothing" (after every fine-level smoothing
+  // step). Empty in a case: the model's default (TurbulenceModelInfo).
+  std::string smoother, coupling;
   Real cfl_max = 1.0e4;             // cap of the model's pseudo-time CFL (follows the mean flow's below it)
-  // Under-relaxation of the model's update. Full steps let the loosely coupled
-  // mean-flow/model iteration cycle with period 2 (TMR plate, coarse grids at any CFL
-  // and finer grids with well-converged SGS); 0.7 removed it in every case measured.
+  // Under-relaxation of the model's update (default by model: TurbulenceModelInfo).
+  // Full steps let the once-per-cycle coupling with point relaxation oscillate with
+  // period 2 (TMR plate, coarse grids at any CFL and finer grids with well-converged
+  // SGS); 0.7 removed it in every case measured.
   Real relaxation = 0.7;
   // Largest factor by which k, epsilon or omega may grow in one step (positivity
   // halves a step that would make them negative). Where production dwarfs destruction
@@ -73,7 +81,20 @@ class TurbulenceModel {
 
 struct TurbulenceModelInfo {
   std::string name, summary;
+  // Defaults of TurbulenceSettings::smoother and ::coupling. The low-Re k-epsilon
+  // models keep points and cycles: their plate solutions depend on the iteration's
+  // path (where transition settles), and the faster schemes reach another one
+  // (turbulence/DESIGN.md).
+  std::string smoother = "points", coupling = "cycle";
+  // Default of TurbulenceSettings::relaxation: 0.7, with which no plate or duct run
+  // oscillates; SST takes full steps (TMR plate levels 35 to 273: 208, 199, 197 and
+  // 144 cycles against 298, 291, 333 and 164), SA does not (full steps oscillate
+  // with period 2 on the 35 level and take 86 cycles instead of 21 on the 69).
+  Real relaxation = 0.7;
 };
+
+// The entry of that model name (nullptr when unknown).
+const TurbulenceModelInfo* find_turbulence_model(const std::string& name);
 
 // Every selectable model, "laminar" (none) first.
 const std::vector<TurbulenceModelInfo>& turbulence_models();

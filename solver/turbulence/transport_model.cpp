@@ -47,6 +47,9 @@ TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) : set
     }
     w.R.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.D.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
+    w.Dx.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
+    w.M.resize(b.ni, b.nj, b.nk, 0, Eigen::Matrix2d::Identity());
+    w.line_dir = stiffest_direction(b);  // geometry only: fixed for the run
     w.dphi.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
     w.lam.resize(b.ni, b.nj, b.nk, 0, 0.0);
     w.flow.resize(b.ni, b.nj, b.nk, 0, CellFlow{});
@@ -156,13 +159,29 @@ CellFlow TransportModel::cell_flow(const Block& b, int ib, const FlowField& f, c
   return cf;
 }
 
+// One model iteration per pass, as named phases: the frozen mean flow's data, then
+// per pass the cells' data, the linearized equations, their line relaxation and the
+// update; the effective viscosity last.
 TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams& fp, Real cfl) {
-  const int nv = num_variables();
-  const Real nu = 1.0 / fp.reynolds;
   const Real cfl_t = std::min(cfl, settings_.cfl_max);
   fill_ghosts(g, f, fp);  // mean-flow ghosts: volume fluxes and velocity gradients
   if (needs_friction_velocity()) compute_friction_velocity(g, f, fp);
-  // Volume fluxes of every face, once per call: the mean flow is frozen here.
+  compute_volume_fluxes(g, f, fp);
+  if (needs_velocity_hessian()) compute_velocity_gradients(g, f);
+  TurbulenceNorms norms;
+  for (int it = 0; it < settings_.iterations; ++it) {
+    fill_scalar_ghosts(g, f, fp);
+    compute_cell_data(g, f, fp);
+    norms = assemble(g, f, fp, cfl_t);
+    relax(g);
+    apply_update(g, f);
+  }
+  update_viscosity(g, f, fp);
+  return norms;
+}
+
+// Volume fluxes of every face, once per call: the mean flow is frozen here.
+void TransportModel::compute_volume_fluxes(const Grid& g, const FlowField& f, const FlowParams& fp) {
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     if (!g.owns(ib)) continue;
     const Block& b = g.blocks[ib];
@@ -174,207 +193,274 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
     for (const Patch& p : b.patches) {
       const int d = side_dir(p.side);
       if (d == b.planar_dir) continue;
-      const PatchRange r = face_range(p);
-      for_each_in(r, [&](Index3 c) {
+      for_each_in(face_range(p), [&](Index3 c) {
         const Index3 fi = boundary_face_index(b, p.side, c);
         w.U[d](fi) = boundary_face_flux(b, p, f.Q[ib], f.nu[ib], c, fp)[0] / fp.beta + b.kt[d](fi);
       });
     }
   }
+}
 
-  const TurbState inf = freestream(nu);
-  if (needs_velocity_hessian()) {
-    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
-      if (!g.owns(ib)) continue;
-      const Block& b = g.blocks[ib];
-      auto& GU = grad_u_[ib];
-      if (GU.ni() != b.ni) GU.resize(b.ni, b.nj, b.nk, 1, Mat3::Zero());
-      for_each_cell(b, [&](int i, int j, int k) { GU(i, j, k) = velocity_gradient(b, f.Q[ib], {i, j, k}); });
-    }
-    fill_first_ghost_layer(g, grad_u_, RotateTensor{},
-                           // Linear extrapolation into the wall ghost: a copy of the wall
-                           // cell's gradient would halve d2u/dy2 there (E of §8.3 lives at the wall).
-                           true);
+// Cell velocity gradients with their first ghost layer (Launder-Sharma's Hessian).
+void TransportModel::compute_velocity_gradients(const Grid& g, const FlowField& f) {
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
+    const Block& b = g.blocks[ib];
+    auto& GU = grad_u_[ib];
+    if (GU.ni() != b.ni) GU.resize(b.ni, b.nj, b.nk, 1, Mat3::Zero());
+    for_each_cell(b, [&](int i, int j, int k) { GU(i, j, k) = velocity_gradient(b, f.Q[ib], {i, j, k}); });
   }
-  const bool coupled = nv == 2 && coupled_sources();
-  if (coupled)  // the 2x2 point blocks, sized on first use (a constructor cannot ask the model)
-    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
-      if (!g.owns(ib)) continue;
-      const Block& b = g.blocks[ib];
-      Work& w = work_[ib];
-      if (w.Minv.ni() == b.ni) continue;
-      w.Dx.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
-      w.Minv.resize(b.ni, b.nj, b.nk, 0, Eigen::Matrix2d::Identity());
-    }
+  fill_first_ghost_layer(g, grad_u_, RotateTensor{},
+                         // Linear extrapolation into the wall ghost: a copy of the wall
+                         // cell's gradient would halve d2u/dy2 there (E of §8.3 lives at the wall).
+                         true);
+}
+
+// What the sources see of every cell, and the auxiliary values with their first
+// ghost layer (donor values across interfaces).
+void TransportModel::compute_cell_data(const Grid& g, const FlowField& f, const FlowParams& fp) {
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
+    for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
+      CellFlow& cf = work_[ib].flow(i, j, k);
+      cf = cell_flow(g.blocks[ib], static_cast<int>(ib), f, fp, {i, j, k}, true);
+      aux_[ib](i, j, k) = cell_aux(f.turb[ib](i, j, k), cf);
+    });
+  }
+  fill_first_ghost_layer(g, aux_, Unrotated{});
+}
+
+// The residual and its Newton linearization on every owned block; returns the
+// residual norms (collective: a sum over all ranks in block order).
+TurbulenceNorms TransportModel::assemble(const Grid& g, const FlowField& f, const FlowParams& fp, Real cfl_t) {
+  std::vector<Real> partial(3 * g.blocks.size(), 0.0);  // per block: sums of squares, cells
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
+    const Block& b = g.blocks[ib];
+    Work& w = work_[ib];
+    w.R.fill(TurbState::Zero());
+    w.D.fill(TurbState::Zero());
+    w.Dx.fill(TurbState::Zero());
+    w.lam.fill(0.0);
+    assemble_interior_faces(b, static_cast<int>(ib), f, fp);
+    assemble_boundary_faces(b, static_cast<int>(ib), f, fp);
+    assemble_sources(b, static_cast<int>(ib), f, fp, cfl_t, &partial[3 * ib]);
+    partial[3 * ib + 2] = static_cast<Real>(b.cells());
+  }
+  const std::vector<Real> total = sum_in_block_order(g, std::move(partial), 3);
   TurbulenceNorms norms;
-  for (int it = 0; it < settings_.iterations; ++it) {
-    fill_scalar_ghosts(g, f, fp);
-    // Auxiliary cell values, and their first ghost layer (donor values across interfaces).
+  for (int m = 0; m < num_variables(); ++m) norms.l2[m] = std::sqrt(total[static_cast<std::size_t>(m)] / total[2]);
+  return norms;
+}
+
+// Thin-layer diffusion coefficients Gamma |S|^2 / V_f of face fi for its left and right cells.
+TransportModel::FaceDiffusivity TransportModel::face_coefficients(const Block& b, int ib, const FlowField& f,
+                                                                  const FlowParams& fp, int d, const Index3& cL,
+                                                                  const Index3& cR, const Index3& fi) const {
+  const auto& T = f.turb[static_cast<std::size_t>(ib)];
+  const auto& A = aux_[static_cast<std::size_t>(ib)];
+  FaceDiffusivity fd = face_diffusivity(T(cL), T(cR), 1.0 / fp.reynolds, A(cL), A(cR));
+  const Real geo = b.S[d](fi).squaredNorm() / (0.5 * (b.vol(cL) + b.vol(cR)));
+  fd.left *= geo;
+  fd.right *= geo;
+  return fd;
+}
+
+// Upwind convection and thin-layer diffusion through interior faces: residual,
+// diagonal, the two off-diagonal couplings, and the spectral radius of the
+// pseudo-time term.
+void TransportModel::assemble_interior_faces(const Block& b, int ib, const FlowField& f, const FlowParams& fp) {
+  Work& w = work_[static_cast<std::size_t>(ib)];
+  const auto& T = f.turb[static_cast<std::size_t>(ib)];
+  for (int d = 0; d < 3; ++d) {
+    if (d == b.planar_dir) continue;
+    for_each_interior_face(b, d, [&](const Index3& fi) {
+      const Index3 cL = add(fi, unit(d), -1), cR = fi;
+      const Real U = w.U[d](fi);
+      const FaceDiffusivity c = face_coefficients(b, ib, f, fp, d, cL, cR, fi);
+      const TurbState conv = positive(U) * T(cL) + negative(U) * T(cR);
+      const TurbState jump = T(cR) - T(cL);
+      w.R(cL) += conv - c.left.cwiseProduct(jump);
+      w.R(cR) -= conv - c.right.cwiseProduct(jump);
+      w.D(cL) += TurbState::Constant(positive(U)) + c.left;
+      w.D(cR) += c.right - TurbState::Constant(negative(U));
+      w.aR[d](fi) = TurbState::Constant(negative(U)) - c.left;    // dR_L / dphi_R
+      w.aL[d](fi) = -(TurbState::Constant(positive(U)) + c.right);  // dR_R / dphi_L
+      w.lam(cL) += 0.5 * std::abs(U) + c.left.maxCoeff();
+      w.lam(cR) += 0.5 * std::abs(U) + c.right.maxCoeff();
+    });
+  }
+}
+
+// Boundary faces: the ghost follows the BC, d(ghost)/d(phi_1) = dg.
+void TransportModel::assemble_boundary_faces(const Block& b, int ib, const FlowField& f, const FlowParams& fp) {
+  Work& w = work_[static_cast<std::size_t>(ib)];
+  const auto& T = f.turb[static_cast<std::size_t>(ib)];
+  const Real nu = 1.0 / fp.reynolds;
+  const bool coupled = num_variables() == 2 && coupled_sources();
+  for (const Patch& p : b.patches) {
+    const int d = side_dir(p.side);
+    if (d == b.planar_dir) continue;
+    const Real s = side_high(p.side) ? 1.0 : -1.0;
+    for_each_in(face_range(p), [&](Index3 cc) {
+      const Index3 fi = boundary_face_index(b, p.side, cc);
+      const Index3 c1 = interior_cell(b, p.side, cc, 1), gc = ghost_cell(b, p.side, cc, 1);
+      const Real Uout = s * w.U[d](fi);
+      Real dg = 1.0;
+      switch (p.type) {
+        case BcType::Wall: dg = -1.0; break;
+        case BcType::Interface: dg = 0.0; break;  // lagged, like the mean flow's block coupling
+        case BcType::Symmetry: dg = 1.0; break;
+        case BcType::Outflow: dg = 1.0; break;
+        default: dg = 0.0; break;  // far field, inflow, Dirichlet: the ghost holds the free stream
+      }
+      const TurbState c = face_coefficients(b, ib, f, fp, d, c1, gc, fi).left;  // cell 1 is "left" here
+      w.R(c1) += positive(Uout) * T(c1) + negative(Uout) * T(gc) - c.cwiseProduct(T(gc) - T(c1));
+      w.D(c1) += TurbState::Constant(positive(Uout) + negative(Uout) * dg) + c * (1.0 - dg);
+      if (coupled && p.type == BcType::Wall) {
+        // A wall value that depends on the wall cell's other variable (Myong-Kasagi's
+        // eps_w = 2 nu k_1/d_1^2) couples them through the ghost 2 phi_w - phi_1:
+        // d(R_m)/d(phi_n) = -2 c_m d(phi_w,m)/d(phi_n). Left explicit, the k-eps wall
+        // coupling (~nu/d_1^3) made the 137 TMR level diverge (measured).
+        const Real d1 = wall_distance(b, p.side, cc);
+        const TurbState pw = wall_value(nu, d1, T(c1));
+        for (int n = 0; n < 2; ++n) {
+          TurbState shifted = T(c1);
+          const Real h = 1e-6 * std::abs(T(c1)[n]) + 1e-30;
+          shifted[n] += h;
+          const TurbState dpw = (wall_value(nu, d1, shifted) - pw) / h;
+          w.Dx(c1)[1 - n] += -2.0 * c[1 - n] * dpw[1 - n];  // row 1-n, column n
+        }
+      }
+      w.lam(c1) += 0.5 * std::abs(Uout) + c.maxCoeff();
+    });
+  }
+}
+
+// Point sources and the pseudo-time term; the point blocks M. Adds the squared
+// residuals per variable to sums[0..1].
+void TransportModel::assemble_sources(const Block& b, int ib, const FlowField& f, const FlowParams& fp, Real cfl_t,
+                                      Real* sums) {
+  Work& w = work_[static_cast<std::size_t>(ib)];
+  const auto& T = f.turb[static_cast<std::size_t>(ib)];
+  const int nv = num_variables();
+  const bool coupled = nv == 2 && coupled_sources();
+  const TurbState inf = freestream(1.0 / fp.reynolds);
+  for_each_cell(b, [&](int i, int j, int k) {
+    const Index3 c{i, j, k};
+    const CellFlow& cfw = w.flow(c);
+    const PointSource src = source(T(c), cfw);
+    // The implicit coefficient is the larger of the model's destruction
+    // linearization and -dS/dphi by a one-sided difference of the whole point
+    // source: near walls SA's fw and ft2 vary fast with nu~, and a diagonal that
+    // missed it let the iteration cycle with period 2 (coarse TMR plate).
+    TurbState implicit = src.implicit;
+    Eigen::Matrix2d J = Eigen::Matrix2d::Zero();  // dS/dphi, numerically
+    for (int m = 0; m < nv; ++m) {
+      TurbState shifted = T(c);
+      const Real h = 1e-6 * std::abs(T(c)[m]) + 1e-9 * std::abs(inf[m]) + 1e-300;
+      shifted[m] += h;
+      J.col(m) = (source(shifted, cfw).value - src.value) / h;
+      implicit[m] = std::max(implicit[m], -J(m, m));
+    }
+    const Real V = b.vol(c);
+    w.R(c) -= V * src.value;
+    w.D(c) += V * implicit + TurbState::Constant(w.lam(c) / cfl_t);
+    for (int m = 0; m < nv; ++m) {
+      if (!(w.D(c)[m] > 0.0)) w.D(c)[m] = w.lam(c) > 0.0 ? w.lam(c) : 1.0;  // keep the relaxation defined
+      sums[m] += (w.R(c)[m] / V) * (w.R(c)[m] / V);
+    }
+    if (nv < 2) {
+      w.R(c)[1] = 0.0;
+      w.D(c)[1] = 1.0;
+    }
+    Eigen::Matrix2d M = w.D(c).asDiagonal();
+    if (coupled) {
+      // 2x2 point-implicit source (k-epsilon): the diagonal as above, the
+      // off-diagonal couplings dS_k/deps, dS_eps/dk kept. The diagonal-only form
+      // leaves k's growth through nu_t ~ k^2/eps explicit and let k and eps
+      // chase each other (bursts of k ~ 1 near the plate's leading edge, measured);
+      // the point system of k-epsilon is stable (trace < 0, det > 0) only together.
+      M(0, 1) = -V * J(0, 1) + w.Dx(c)[0];
+      M(1, 0) = -V * J(1, 0) + w.Dx(c)[1];
+    }
+    w.M(c) = M;
+  });
+}
+
+// The linearized equations, relaxed by symmetric Gauss-Seidel: sgs_iterations
+// forward-backward pairs of line sweeps (implicit/line_solver.hpp; lines in each
+// block's stiffest direction) or point sweeps. Rows:
+//   M(c) dphi(c) + sum_d [aR[d](c + e_d) .* dphi(c + e_d) + aL[d](c) .* dphi(c - e_d)] = -R(c).
+// Block interfaces lag, as in the mean flow (their coefficients are zero here).
+void TransportModel::relax(const Grid& g) {
+  const bool lines = settings_.smoother == "lines";
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
+    Work& w = work_[ib];
+    w.dphi.fill(TurbState::Zero());
+    if (!lines) continue;
+    const int L = w.line_dir;
+    const Index3 eL = unit(L);
+    w.lines.factorize(
+        g.blocks[ib], L, [&](const Index3& c) { return w.M(c); },
+        [&](const Index3& c) -> Eigen::Matrix2d { return w.aL[L](c).asDiagonal(); },
+        [&](const Index3& c) -> Eigen::Matrix2d { return w.aR[L](add(c, eL)).asDiagonal(); });
+  }
+  for (int sweep = 0; sweep < 2 * settings_.sgs_iterations; ++sweep) {
+    const bool forward = sweep % 2 == 0;
     for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
       if (!g.owns(ib)) continue;
-      for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
-        CellFlow& cf = work_[ib].flow(i, j, k);
-        cf = cell_flow(g.blocks[ib], static_cast<int>(ib), f, fp, {i, j, k}, true);
-        aux_[ib](i, j, k) = cell_aux(f.turb[ib](i, j, k), cf);
-      });
-    }
-    fill_first_ghost_layer(g, aux_, Unrotated{});
-    std::vector<Real> partial(3 * g.blocks.size(), 0.0);  // per block: sums of squares, cells
-    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
-      if (!g.owns(ib)) continue;
-      const Block& b = g.blocks[ib];
-      Work& w = work_[ib];
-      const auto& T = f.turb[ib];
-      w.R.fill(TurbState::Zero());
-      w.D.fill(TurbState::Zero());
-      if (coupled) w.Dx.fill(TurbState::Zero());
-      auto& lam = w.lam;  // spectral radius for the pseudo-time term
-      lam.fill(0.0);
-      // Thin-layer diffusion coefficients Gamma |S|^2 / V_f for the left and right cells.
-      auto face_coeff = [&](int d, const Index3& cL, const Index3& cR, const Index3& fi) {
-        FaceDiffusivity fd = face_diffusivity(T(cL), T(cR), nu, aux_[ib](cL), aux_[ib](cR));
-        const Real geo = b.S[d](fi).squaredNorm() / (0.5 * (b.vol(cL) + b.vol(cR)));
-        fd.left *= geo;
-        fd.right *= geo;
-        return fd;
-      };
-      // Interior faces.
-      for (int d = 0; d < 3; ++d) {
-        if (d == b.planar_dir) continue;
-        for_each_interior_face(b, d, [&](const Index3& fi) {
-          const Index3 cL = add(fi, unit(d), -1), cR = fi;
-          const Real U = w.U[d](fi);
-          const FaceDiffusivity c = face_coeff(d, cL, cR, fi);
-          const TurbState conv = positive(U) * T(cL) + negative(U) * T(cR);
-          const TurbState jump = T(cR) - T(cL);
-          w.R(cL) += conv - c.left.cwiseProduct(jump);
-          w.R(cR) -= conv - c.right.cwiseProduct(jump);
-          w.D(cL) += TurbState::Constant(positive(U)) + c.left;
-          w.D(cR) += c.right - TurbState::Constant(negative(U));
-          w.aR[d](fi) = TurbState::Constant(negative(U)) - c.left;    // dR_L / dphi_R
-          w.aL[d](fi) = -(TurbState::Constant(positive(U)) + c.right);  // dR_R / dphi_L
-          lam(cL) += 0.5 * std::abs(U) + c.left.maxCoeff();
-          lam(cR) += 0.5 * std::abs(U) + c.right.maxCoeff();
-        });
-      }
-      // Boundary faces: the ghost follows the BC, d(ghost)/d(phi_1) = dg.
-      for (const Patch& p : b.patches) {
-        const int d = side_dir(p.side);
-        if (d == b.planar_dir) continue;
-        const PatchRange r = face_range(p);
-        const Real s = side_high(p.side) ? 1.0 : -1.0;
-        for_each_in(r, [&](Index3 cc) {
-          const Index3 fi = boundary_face_index(b, p.side, cc);
-          const Index3 c1 = interior_cell(b, p.side, cc, 1), gc = ghost_cell(b, p.side, cc, 1);
-          const Real Uout = s * w.U[d](fi);
-          Real dg = 1.0;
-          switch (p.type) {
-            case BcType::Wall: dg = -1.0; break;
-            case BcType::Interface: dg = 0.0; break;  // lagged, like the mean flow's block coupling
-            case BcType::Symmetry: dg = 1.0; break;
-            case BcType::Outflow: dg = 1.0; break;
-            default: dg = 0.0; break;  // far field, inflow, Dirichlet: the ghost holds the free stream
-          }
-          const TurbState c = face_coeff(d, c1, gc, fi).left;  // cell 1 is "left" here
-          w.R(c1) += positive(Uout) * T(c1) + negative(Uout) * T(gc) - c.cwiseProduct(T(gc) - T(c1));
-          w.D(c1) += TurbState::Constant(positive(Uout) + negative(Uout) * dg) + c * (1.0 - dg);
-          if (coupled && p.type == BcType::Wall) {
-            // A wall value that depends on the wall cell's other variable (Myong-Kasagi's
-            // eps_w = 2 nu k_1/d_1^2) couples them through the ghost 2 phi_w - phi_1:
-            // d(R_m)/d(phi_n) = -2 c_m d(phi_w,m)/d(phi_n). Left explicit, the k-eps wall
-            // coupling (~nu/d_1^3) made the 137 TMR level diverge (measured).
-            const Real d1 = wall_distance(b, p.side, cc);
-            const TurbState pw = wall_value(nu, d1, T(c1));
-            for (int n = 0; n < 2; ++n) {
-              TurbState shifted = T(c1);
-              const Real h = 1e-6 * std::abs(T(c1)[n]) + 1e-30;
-              shifted[n] += h;
-              const TurbState dpw = (wall_value(nu, d1, shifted) - pw) / h;
-              w.Dx(c1)[1 - n] += -2.0 * c[1 - n] * dpw[1 - n];  // row 1-n, column n
-            }
-          }
-          lam(c1) += 0.5 * std::abs(Uout) + c.maxCoeff();
-        });
-      }
-      // Sources and the pseudo-time term.
-      for_each_cell(b, [&](int i, int j, int k) {
-        const Index3 c{i, j, k};
-        const CellFlow& cfw = w.flow(c);
-        const PointSource src = source(T(c), cfw);
-        // The implicit coefficient is the larger of the model's destruction
-        // linearization and -dS/dphi by a one-sided difference of the whole point
-        // source: near walls SA's fw and ft2 vary fast with nu~, and a diagonal that
-        // missed it let the iteration cycle with period 2 (coarse TMR plate).
-        TurbState implicit = src.implicit;
-        Eigen::Matrix2d J = Eigen::Matrix2d::Zero();  // dS/dphi, numerically
-        for (int m = 0; m < nv; ++m) {
-          TurbState shifted = T(c);
-          const Real h = 1e-6 * std::abs(T(c)[m]) + 1e-9 * std::abs(inf[m]) + 1e-300;
-          shifted[m] += h;
-          J.col(m) = (source(shifted, cfw).value - src.value) / h;
-          implicit[m] = std::max(implicit[m], -J(m, m));
-        }
-        const Real V = b.vol(c);
-        w.R(c) -= V * src.value;
-        w.D(c) += V * implicit + TurbState::Constant(lam(c) / cfl_t);
-        for (int m = 0; m < nv; ++m) {
-          if (!(w.D(c)[m] > 0.0)) w.D(c)[m] = lam(c) > 0.0 ? lam(c) : 1.0;  // keep the relaxation defined
-          partial[3 * ib + static_cast<std::size_t>(m)] += (w.R(c)[m] / V) * (w.R(c)[m] / V);
-        }
-        if (nv < 2) {
-          w.R(c)[1] = 0.0;
-          w.D(c)[1] = 1.0;
-        }
-        if (coupled) {
-          // 2x2 point-implicit source (k-epsilon): the diagonal as above, the
-          // off-diagonal couplings dS_k/deps, dS_eps/dk kept. The diagonal-only form
-          // leaves k's growth through nu_t ~ k^2/eps explicit and let k and eps
-          // chase each other (bursts of k ~ 1 near the plate's leading edge, measured);
-          // the point system of k-epsilon is stable (trace < 0, det > 0) only together.
-          Eigen::Matrix2d M = w.D(c).asDiagonal();
-          M(0, 1) = -V * J(0, 1) + w.Dx(c)[0];
-          M(1, 0) = -V * J(1, 0) + w.Dx(c)[1];
-          w.Minv(c) = M.inverse();
-        }
-      });
-      partial[3 * ib + 2] = static_cast<Real>(b.cells());
-    }
-    const std::vector<Real> total = sum_in_block_order(g, std::move(partial), 3);
-    for (int m = 0; m < nv; ++m) norms.l2[m] = std::sqrt(total[static_cast<std::size_t>(m)] / total[2]);
-    // Symmetric Gauss-Seidel on the scalar blocks.
-    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
-      if (g.owns(ib)) work_[ib].dphi.fill(TurbState::Zero());
-    for (int sweep = 0; sweep < 2 * settings_.sgs_iterations; ++sweep) {
-      const bool forward = sweep % 2 == 0;
-      for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
-        if (!g.owns(ib)) continue;
-        const Block& b = g.blocks[ib];
-        Work& w = work_[ib];
-        auto relax = [&](int i, int j, int k) {
-          const Index3 c{i, j, k};
-          TurbState r = -w.R(c);
-          for (int d = 0; d < 3; ++d) {
-            if (d == b.planar_dir) continue;
-            const Index3 e = unit(d);
-            const Index3 up = add(c, e), dn = add(c, e, -1);
-            r -= w.aR[d](up).cwiseProduct(w.dphi(up)) + w.aL[d](c).cwiseProduct(w.dphi(dn));
-          }
-          w.dphi(c) = coupled ? TurbState(w.Minv(c) * r) : TurbState(r.cwiseQuotient(w.D(c)));
-        };
-        for_each_cell_ordered(b, forward, relax);
-      }
-    }
-    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
-      if (!g.owns(ib)) continue;
-      for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
-        TurbState& phi = f.turb[ib](i, j, k);
-        phi += settings_.relaxation * limit_update(phi, work_[ib].dphi(i, j, k));
-        if (nv < 2) phi[1] = 0.0;
-      });
+      if (lines)
+        sweep_lines(g.blocks[ib], work_[ib], forward);
+      else
+        sweep_points(g.blocks[ib], work_[ib], forward);
     }
   }
-  update_viscosity(g, f, fp);
-  return norms;
+}
+
+void TransportModel::sweep_lines(const Block& b, Work& w, bool forward) const {
+  const int L = w.line_dir;
+  const Index3 eL = unit(L);
+  auto rhs = [&](const Index3& c) {  // -R and the other lines' latest corrections
+    TurbState r = -w.R(c);
+    for (int d = 0; d < 3; ++d) {
+      if (d == L || d == b.planar_dir) continue;
+      const Index3 up = add(c, unit(d)), dn = add(c, unit(d), -1);
+      r -= w.aR[d](up).cwiseProduct(w.dphi(up)) + w.aL[d](c).cwiseProduct(w.dphi(dn));
+    }
+    return r;
+  };
+  w.lines.sweep(b, forward, rhs, [&](const Index3& c) -> Eigen::Matrix2d { return w.aR[L](add(c, eL)).asDiagonal(); },
+                w.dphi);
+}
+
+void TransportModel::sweep_points(const Block& b, Work& w, bool forward) const {
+  const bool coupled = num_variables() == 2 && coupled_sources();
+  auto relax_cell = [&](int i, int j, int k) {
+    const Index3 c{i, j, k};
+    TurbState r = -w.R(c);
+    for (int d = 0; d < 3; ++d) {
+      if (d == b.planar_dir) continue;
+      const Index3 e = unit(d);
+      const Index3 up = add(c, e), dn = add(c, e, -1);
+      r -= w.aR[d](up).cwiseProduct(w.dphi(up)) + w.aL[d](c).cwiseProduct(w.dphi(dn));
+    }
+    w.dphi(c) = coupled ? TurbState(w.M(c).inverse() * r) : TurbState(r.cwiseQuotient(w.D(c)));
+  };
+  for_each_cell_ordered(b, forward, relax_cell);
+}
+
+void TransportModel::apply_update(const Grid& g, FlowField& f) {
+  const int nv = num_variables();
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
+    for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
+      TurbState& phi = f.turb[ib](i, j, k);
+      phi += settings_.relaxation * limit_update(phi, work_[ib].dphi(i, j, k));
+      if (nv < 2) phi[1] = 0.0;
+    });
+  }
 }
 
 void TransportModel::compute_friction_velocity(const Grid& g, const FlowField& f, const FlowParams& fp) {

@@ -8,13 +8,15 @@
 //   side, for SA's non-conservative cb2 form);
 // - sources: point values from the model; only their destruction part enters the
 //   implicit diagonal;
-// - one Newton step per iteration, relaxed by symmetric Gauss-Seidel (scalar
-//   blocks per variable); block interfaces lag by one iteration, as in the mean flow.
+// - one Newton step per iteration, relaxed by symmetric line or point Gauss-Seidel
+//   (TurbulenceSettings::smoother; 2x2 point blocks); block interfaces lag by one
+//   iteration, as in the mean flow. Why lines: turbulence/DESIGN.md.
 // Boundary ghosts: wall 2 phi_w - phi_1 (phi_w from the model), symmetry and
 // outflow zero gradient, far field / inflow the free stream where the flow enters.
 #include <algorithm>
 #include <array>
 
+#include "implicit/line_solver.hpp"
 #include "turbulence/model.hpp"
 
 namespace narwhal {
@@ -107,6 +109,22 @@ class TransportModel : public TurbulenceModel {
   CellFlow cell_flow(const Block& b, int ib, const FlowField& f, const FlowParams& fp, const Index3& c,
                      bool for_sources) const;  // false: what nu_t needs only (no gradients of phi, no Hessian)
 
+  // The phases of advance().
+  void compute_volume_fluxes(const Grid& g, const FlowField& f, const FlowParams& fp);
+  void compute_velocity_gradients(const Grid& g, const FlowField& f);
+  void compute_cell_data(const Grid& g, const FlowField& f, const FlowParams& fp);
+  TurbulenceNorms assemble(const Grid& g, const FlowField& f, const FlowParams& fp, Real cfl_t);
+  FaceDiffusivity face_coefficients(const Block& b, int ib, const FlowField& f, const FlowParams& fp, int d,
+                                    const Index3& cL, const Index3& cR, const Index3& fi) const;
+  void assemble_interior_faces(const Block& b, int ib, const FlowField& f, const FlowParams& fp);
+  void assemble_boundary_faces(const Block& b, int ib, const FlowField& f, const FlowParams& fp);
+  void assemble_sources(const Block& b, int ib, const FlowField& f, const FlowParams& fp, Real cfl_t, Real* sums);
+  void relax(const Grid& g);
+  struct Work;
+  void sweep_lines(const Block& b, Work& w, bool forward) const;
+  void sweep_points(const Block& b, Work& w, bool forward) const;
+  void apply_update(const Grid& g, FlowField& f);
+
   WallDistance wall_;
   std::vector<Real> u_tau_;  // per wall face (WallDistance::faces order), when the model needs it
   // Per block: face volume fluxes per direction, residual, implicit diagonal and
@@ -115,8 +133,10 @@ class TransportModel : public TurbulenceModel {
     std::array<GhostArray<Real>, 3> U;
     std::array<GhostArray<TurbState>, 3> aL, aR;
     GhostArray<TurbState> R, D, dphi;
-    GhostArray<TurbState> Dx;          // off-diagonal point-block entries (0,1), (1,0) from wall BCs
-    GhostArray<Eigen::Matrix2d> Minv;  // inverse 2x2 point blocks (coupled_sources())
+    GhostArray<TurbState> Dx;        // off-diagonal point-block entries (0,1), (1,0) from wall BCs
+    GhostArray<Eigen::Matrix2d> M;   // 2x2 point blocks: D, plus the source couplings (coupled_sources())
+    int line_dir = 0;                // direction of the relaxation's lines (stiffest_direction)
+    LineFactorization<2> lines;      // their factorization (smoother "lines")
     GhostArray<Real> lam;         // spectral radius of the cell's faces (pseudo-time term)
     GhostArray<CellFlow> flow;    // the cells' flow data of the current iteration (aux and sources)
   };
