@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/driver.hpp"
+#include "app/turbulence_coupling.hpp"
 #include "bc/boundary.hpp"
 #include "implicit/jacobian.hpp"
 #include "multigrid/fas.hpp"
@@ -164,7 +165,8 @@ struct TurbulentPlate {
   FlowField f;
   FlowParams fp;
   std::unique_ptr<Multigrid> mg;
-  std::unique_ptr<TurbulenceModel> model;
+  std::unique_ptr<TurbulenceCoupling> coupling;
+  TurbulenceModel* model = nullptr;
   TurbulentPlate(const std::string& model_name, std::vector<std::string> sets) {
     sets.push_back("grid.coarsen=1");
     c = load_case(std::string(NARWHAL_SOURCE_DIR) + "/validation/cases/tmr_flat_plate/flat_plate_" + model_name + ".toml",
@@ -174,17 +176,10 @@ struct TurbulentPlate {
     f.allocate(g, fp, c.initial);
     mark_planar_blocks(g, f, fp);
     mg = std::make_unique<Multigrid>(g, f, fp, c.solver.newton, c.solver.multigrid);
-    model = make_turbulence_model(c.turbulence, g);
-    model->initialize(g, f, fp, false);
-    fill_ghosts(g, f, fp);
-    model->update_viscosity(g, f, fp);
-    if (c.turbulence.coupling == "smoothing")
-      mg->set_fine_smoothing_hook([this](Real cfl) { model->advance(g, f, fp, cfl); });
+    coupling = std::make_unique<TurbulenceCoupling>(c.turbulence, g, f, fp, mg.get(), false);
+    model = coupling->model();
   }
-  void cycle() {
-    const IterationNorms n = mg->cycle();
-    if (c.turbulence.coupling != "smoothing") model->advance(g, f, fp, n.cfl);
-  }
+  void cycle() { coupling->after_mean_flow_step(mg->cycle().cfl); }
 };
 
 // One turbulent V-cycle (SA, its default scheme: the model updated after every

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "app/turbulence_coupling.hpp"
 #include "bc/boundary.hpp"
 #include "io/cgns_writer.hpp"
 #include "io/monitors.hpp"
@@ -255,16 +256,8 @@ class SteadyRun {
       single_ = std::make_unique<NewtonSolver>(g_, field_, fp_, c_.solver.newton);
     }
     if (opt_.restart) solver().set_reference_norm(info_.reference_norm);
-    turb_ = make_turbulence_model(c_.turbulence, g_);
-    if (turb_) {
-      turb_->initialize(g_, field_, fp_, opt_.restart.has_value());
-      fill_ghosts(g_, field_, fp_);
-      turb_->update_viscosity(g_, field_, fp_);
-      if (mg_ && c_.turbulence.coupling == "smoothing") {
-        model_in_cycle_ = true;
-        mg_->set_fine_smoothing_hook([this](Real cfl) { model_norms_ = turb_->advance(g_, field_, fp_, cfl); });
-      }
-    }
+    coupling_ = std::make_unique<TurbulenceCoupling>(c_.turbulence, g_, field_, fp_, mg_.get(), opt_.restart.has_value());
+    turb_ = coupling_->model();
     fill_ghosts(g_, field_, fp_);
   }
 
@@ -340,8 +333,7 @@ class SteadyRun {
     const IterationNorms n = mg_ ? mg_->cycle() : solver().iterate();
     monitors_.take_mean_flow(n, solver().reference_norm());
     if (!turb_) return;
-    if (!model_in_cycle_) model_norms_ = turb_->advance(g_, field_, fp_, monitors_.last.cfl);
-    monitors_.take_turbulence(model_norms_);  // in the cycle: those of its last update
+    monitors_.take_turbulence(coupling_->after_mean_flow_step(monitors_.last.cfl));
   }
 
   void measure_forces() {
@@ -473,9 +465,8 @@ class SteadyRun {
 
   std::unique_ptr<NewtonSolver> single_;
   std::unique_ptr<Multigrid> mg_;
-  std::unique_ptr<TurbulenceModel> turb_;
-  bool model_in_cycle_ = false;  // the model is updated by the multigrid's smoothing hook
-  TurbulenceNorms model_norms_;  // of the model's latest update
+  std::unique_ptr<TurbulenceCoupling> coupling_;  // owns the model; may hook into mg_
+  TurbulenceModel* turb_ = nullptr;               // its model (none: laminar)
 
   std::vector<std::string> turb_names_;  // the turbulence model's variables
   Monitors monitors_{0};

@@ -246,14 +246,12 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   std::string valid_models;
   for (const auto& m : turbulence_models()) valid_models += (valid_models.empty() ? "" : ", ") + m.name;
   t.model = r.string_or("turbulence.model", t.model, "the turbulence model (" + valid_models + ")");
-  const TurbulenceModelInfo* info = find_turbulence_model(t.model);
-  if (!info) r.error("turbulence.model", "expected one of " + valid_models + ", got '" + t.model + "'");
-  t.smoother = r.string_or("turbulence.smoother", info->smoother, "the model's relaxation: lines or points");
-  if (t.smoother != "lines" && t.smoother != "points")
+  if (!find_turbulence_model(t.model)) r.error("turbulence.model", "expected one of " + valid_models + ", got '" + t.model + "'");
+  t.smoother = r.string_or("turbulence.smoother", "", "the model's relaxation: lines or points");
+  if (!t.smoother.empty() && t.smoother != "lines" && t.smoother != "points")
     r.error("turbulence.smoother", "expected \"lines\" or \"points\", got '" + t.smoother + "'");
-  t.coupling = r.string_or("turbulence.coupling", info->coupling,
-                           "when multigrid updates the model: cycle or smoothing");
-  if (t.coupling != "cycle" && t.coupling != "smoothing")
+  t.coupling = r.string_or("turbulence.coupling", "", "when multigrid updates the model: cycle or smoothing");
+  if (!t.coupling.empty() && t.coupling != "cycle" && t.coupling != "smoothing")
     r.error("turbulence.coupling", "expected \"cycle\" or \"smoothing\", got '" + t.coupling + "'");
   t.freestream_nut_ratio = r.number_or("turbulence.freestream_nut_ratio", t.freestream_nut_ratio,
                                        "the free-stream eddy-viscosity ratio (SA: nu_tilde/nu)", Range::positive());
@@ -267,8 +265,9 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                           Range::positive());
   t.degani_schiff = r.boolean_or("turbulence.degani_schiff", t.degani_schiff,
                                  "whether Baldwin-Lomax takes F_max at the first peak (Degani-Schiff)");
-  t.relaxation = r.number_or("turbulence.relaxation", info->relaxation, "the under-relaxation of the model's update",
-                             Range{0.0, 1.0, true, false});
+  if (r.has("turbulence.relaxation"))
+    t.relaxation = r.number("turbulence.relaxation", "the under-relaxation of the model's update", Range{0.0, 1.0, true, false});
+  t = with_model_defaults(t);  // what was left open, from the model
   t.max_growth = r.number_or("turbulence.max_growth", t.max_growth,
                              "the largest factor by which k, epsilon or omega may grow in one step", Range::above(1));
   t.nonlinear.c1 = r.number_or("turbulence.nonlinear_c1", t.nonlinear.c1, "C1 of the quadratic stress (§8.5)");

@@ -22,7 +22,6 @@ struct Range {
   double hi = std::numeric_limits<double>::infinity();
   bool lo_open = false, hi_open = false;
 
-  static Range any() { return {}; }
   static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
   static Range at_least(double lo) { return {lo, std::numeric_limits<double>::infinity(), false, false}; }
   static Range above(double lo) { return {lo, std::numeric_limits<double>::infinity(), true, false}; }

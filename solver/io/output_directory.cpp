@@ -27,7 +27,7 @@ bool restart_is_in(const std::string& restart, const std::string& out_dir) {
   return fs::exists(own, ec) && fs::equivalent(restart, own, ec) && !ec;
 }
 
-OutputDirectory::OutputDirectory(const std::string& path, bool keep_history, bool keep_restart) : path_(path) {
+OutputDirectory::OutputDirectory(const std::string& path, bool keep_history, bool keep_restart) {
   if (path.empty()) fail("--out: the output directory name is empty");
   std::error_code ec;
   if (fs::exists(path, ec) && !fs::is_directory(path, ec))

@@ -25,7 +25,6 @@ class OutputDirectory {
   static bool is_run_output(const std::string& filename);
 
  private:
-  std::string path_;
   int lock_fd_ = -1;
   std::vector<std::string> cleared_;
 };

@@ -18,7 +18,7 @@ constexpr Real kappa = 0.40, aplus = 26.0, ccp = 1.6, ckleb = 0.3, cwk = 0.25, k
 
 void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) {
   const Real nu = 1.0 / fp.reynolds;
-  const Real w = settings_.relaxation;
+  const Real w = *settings_.relaxation;
   nut_.resize(g.blocks.size());
   ywall_.resize(g.blocks.size());
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {

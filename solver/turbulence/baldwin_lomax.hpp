@@ -30,7 +30,7 @@ namespace narwhal {
 
 class BaldwinLomax final : public TurbulenceModel {
  public:
-  BaldwinLomax(const TurbulenceSettings& s, const Grid& g) : settings_(s) { (void)g; }
+  BaldwinLomax(const TurbulenceSettings& s, const Grid& g) : settings_(with_model_defaults(s)) { (void)g; }
   std::string name() const override { return "baldwin-lomax"; }
   int num_variables() const override { return 0; }
   std::string variable_name(int) const override { return ""; }

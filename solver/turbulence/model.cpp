@@ -31,12 +31,17 @@ const TurbulenceModelInfo* find_turbulence_model(const std::string& name) {
   return nullptr;
 }
 
-std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings& settings, const Grid& g) {
-  TurbulenceSettings s = settings;
-  if (const TurbulenceModelInfo* info = find_turbulence_model(s.model)) {
-    if (s.smoother.empty()) s.smoother = info->smoother;
-    if (s.coupling.empty()) s.coupling = info->coupling;
-  }
+TurbulenceSettings with_model_defaults(TurbulenceSettings s) {
+  const TurbulenceModelInfo fallback;  // unknown names: make_turbulence_model reports them
+  const TurbulenceModelInfo* found = find_turbulence_model(s.model);
+  const TurbulenceModelInfo& info = found ? *found : fallback;
+  if (s.smoother.empty()) s.smoother = info.smoother;
+  if (s.coupling.empty()) s.coupling = info.coupling;
+  if (!s.relaxation) s.relaxation = info.relaxation;
+  return s;
+}
+
+std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings& s, const Grid& g) {
   if (s.model == "laminar") return nullptr;
   if (s.model == "baldwin-lomax") return std::make_unique<BaldwinLomax>(s, g);
   if (s.model == "sa") return std::make_unique<SpalartAllmaras>(s, g);

@@ -16,6 +16,7 @@
 //   model = "sa"                 # `narwhal list-models` prints the valid names
 //   freestream_nut_ratio = 3.0   # SA: nu_tilde/nu in the free stream (TMR: 3)
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,14 +36,14 @@ struct TurbulenceSettings {
   // Relaxation of the model's linear equations: "lines" (line Gauss-Seidel in each
   // block's stiffest direction) or "points". When a multigrid run updates the model:
   // "cycle" (after every cycle) or "smoothing" (after every fine-level smoothing
-  // step). Empty in a case: the model's default (TurbulenceModelInfo).
+  // step). Empty: the model's default (with_model_defaults).
   std::string smoother, coupling;
   Real cfl_max = 1.0e4;             // cap of the model's pseudo-time CFL (follows the mean flow's below it)
-  // Under-relaxation of the model's update (default by model: TurbulenceModelInfo).
-  // Full steps let the once-per-cycle coupling with point relaxation oscillate with
+  // Under-relaxation of the model's update; unset: the model's default
+  // (with_model_defaults). Full steps let the once-per-cycle coupling with point relaxation oscillate with
   // period 2 (TMR plate, coarse grids at any CFL and finer grids with well-converged
   // SGS); 0.7 removed it in every case measured.
-  Real relaxation = 0.7;
+  std::optional<Real> relaxation;
   // Largest factor by which k, epsilon or omega may grow in one step (positivity
   // halves a step that would make them negative). Where production dwarfs destruction
   // (a start from uniform flow puts S ~ U/d_1 in the wall cells: P/eps ~ 1e6 in the
@@ -95,6 +96,11 @@ struct TurbulenceModelInfo {
 
 // The entry of that model name (nullptr when unknown).
 const TurbulenceModelInfo* find_turbulence_model(const std::string& name);
+
+// The settings with every scheme choice left open (smoother, coupling, relaxation)
+// taken from the model's TurbulenceModelInfo; the one place these defaults resolve
+// (the case reader and the models' constructors both call it).
+TurbulenceSettings with_model_defaults(TurbulenceSettings s);
 
 // Every selectable model, "laminar" (none) first.
 const std::vector<TurbulenceModelInfo>& turbulence_models();

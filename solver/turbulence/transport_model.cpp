@@ -27,7 +27,8 @@ Real interior_volume_flux(const Block& b, const GhostArray<State>& Q, int d, con
 
 }  // namespace
 
-TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) : settings_(s), wall_(compute_wall_distance(g)) {
+TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) :
+    settings_(with_model_defaults(s)), wall_(compute_wall_distance(g)) {
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
     Work w;
@@ -47,7 +48,6 @@ TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) : set
     }
     w.R.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.D.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
-    w.Dx.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
     w.M.resize(b.ni, b.nj, b.nk, 0, Eigen::Matrix2d::Identity());
     w.line_dir = stiffest_direction(b);  // geometry only: fixed for the run
     w.dphi.resize(b.ni, b.nj, b.nk, 1, TurbState::Zero());
@@ -240,7 +240,10 @@ TurbulenceNorms TransportModel::assemble(const Grid& g, const FlowField& f, cons
     Work& w = work_[ib];
     w.R.fill(TurbState::Zero());
     w.D.fill(TurbState::Zero());
-    w.Dx.fill(TurbState::Zero());
+    if (coupled()) {  // the wall-BC couplings: k-epsilon only
+      if (w.Dx.ni() != b.ni) w.Dx.resize(b.ni, b.nj, b.nk, 0, TurbState::Zero());
+      w.Dx.fill(TurbState::Zero());
+    }
     w.lam.fill(0.0);
     assemble_interior_faces(b, static_cast<int>(ib), f, fp);
     assemble_boundary_faces(b, static_cast<int>(ib), f, fp);
@@ -297,7 +300,6 @@ void TransportModel::assemble_boundary_faces(const Block& b, int ib, const FlowF
   Work& w = work_[static_cast<std::size_t>(ib)];
   const auto& T = f.turb[static_cast<std::size_t>(ib)];
   const Real nu = 1.0 / fp.reynolds;
-  const bool coupled = num_variables() == 2 && coupled_sources();
   for (const Patch& p : b.patches) {
     const int d = side_dir(p.side);
     if (d == b.planar_dir) continue;
@@ -317,7 +319,7 @@ void TransportModel::assemble_boundary_faces(const Block& b, int ib, const FlowF
       const TurbState c = face_coefficients(b, ib, f, fp, d, c1, gc, fi).left;  // cell 1 is "left" here
       w.R(c1) += positive(Uout) * T(c1) + negative(Uout) * T(gc) - c.cwiseProduct(T(gc) - T(c1));
       w.D(c1) += TurbState::Constant(positive(Uout) + negative(Uout) * dg) + c * (1.0 - dg);
-      if (coupled && p.type == BcType::Wall) {
+      if (coupled() && p.type == BcType::Wall) {
         // A wall value that depends on the wall cell's other variable (Myong-Kasagi's
         // eps_w = 2 nu k_1/d_1^2) couples them through the ghost 2 phi_w - phi_1:
         // d(R_m)/d(phi_n) = -2 c_m d(phi_w,m)/d(phi_n). Left explicit, the k-eps wall
@@ -344,7 +346,6 @@ void TransportModel::assemble_sources(const Block& b, int ib, const FlowField& f
   Work& w = work_[static_cast<std::size_t>(ib)];
   const auto& T = f.turb[static_cast<std::size_t>(ib)];
   const int nv = num_variables();
-  const bool coupled = nv == 2 && coupled_sources();
   const TurbState inf = freestream(1.0 / fp.reynolds);
   for_each_cell(b, [&](int i, int j, int k) {
     const Index3 c{i, j, k};
@@ -375,7 +376,7 @@ void TransportModel::assemble_sources(const Block& b, int ib, const FlowField& f
       w.D(c)[1] = 1.0;
     }
     Eigen::Matrix2d M = w.D(c).asDiagonal();
-    if (coupled) {
+    if (coupled()) {
       // 2x2 point-implicit source (k-epsilon): the diagonal as above, the
       // off-diagonal couplings dS_k/deps, dS_eps/dk kept. The diagonal-only form
       // leaves k's growth through nu_t ~ k^2/eps explicit and let k and eps
@@ -399,7 +400,10 @@ void TransportModel::relax(const Grid& g) {
     if (!g.owns(ib)) continue;
     Work& w = work_[ib];
     w.dphi.fill(TurbState::Zero());
-    if (!lines) continue;
+    if (!lines) {
+      if (coupled()) invert_point_blocks(g.blocks[ib], w);
+      continue;
+    }
     const int L = w.line_dir;
     const Index3 eL = unit(L);
     w.lines.factorize(
@@ -435,8 +439,14 @@ void TransportModel::sweep_lines(const Block& b, Work& w, bool forward) const {
                 w.dphi);
 }
 
+// The point smoother's 2x2 blocks inverted once per assembly, not once per sweep.
+void TransportModel::invert_point_blocks(const Block& b, Work& w) const {
+  if (w.M_inv.ni() != b.ni) w.M_inv.resize(b.ni, b.nj, b.nk, 0, Eigen::Matrix2d::Identity());
+  for_each_cell(b, [&](int i, int j, int k) { w.M_inv(i, j, k) = w.M(i, j, k).inverse(); });
+}
+
 void TransportModel::sweep_points(const Block& b, Work& w, bool forward) const {
-  const bool coupled = num_variables() == 2 && coupled_sources();
+  const bool coupled_blocks = coupled();
   auto relax_cell = [&](int i, int j, int k) {
     const Index3 c{i, j, k};
     TurbState r = -w.R(c);
@@ -446,7 +456,7 @@ void TransportModel::sweep_points(const Block& b, Work& w, bool forward) const {
       const Index3 up = add(c, e), dn = add(c, e, -1);
       r -= w.aR[d](up).cwiseProduct(w.dphi(up)) + w.aL[d](c).cwiseProduct(w.dphi(dn));
     }
-    w.dphi(c) = coupled ? TurbState(w.M(c).inverse() * r) : TurbState(r.cwiseQuotient(w.D(c)));
+    w.dphi(c) = coupled_blocks ? TurbState(w.M_inv(c) * r) : TurbState(r.cwiseQuotient(w.D(c)));
   };
   for_each_cell_ordered(b, forward, relax_cell);
 }
@@ -457,7 +467,7 @@ void TransportModel::apply_update(const Grid& g, FlowField& f) {
     if (!g.owns(ib)) continue;
     for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
       TurbState& phi = f.turb[ib](i, j, k);
-      phi += settings_.relaxation * limit_update(phi, work_[ib].dphi(i, j, k));
+      phi += *settings_.relaxation * limit_update(phi, work_[ib].dphi(i, j, k));
       if (nv < 2) phi[1] = 0.0;
     });
   }

@@ -60,6 +60,7 @@ class TransportModel : public TurbulenceModel {
   // Two-variable models whose sources couple strongly (k-epsilon): 2x2 point-implicit
   // source Jacobian in the relaxation instead of scalar diagonals.
   virtual bool coupled_sources() const { return false; }
+  bool coupled() const { return num_variables() == 2 && coupled_sources(); }
   // u_tau of the nearest wall face in CellFlow (Myong-Kasagi's y+ damping).
   virtual bool needs_friction_velocity() const { return false; }
   // Gradient of sqrt(k) (CellFlow::grad_sqrt_phi0), for Launder-Sharma's D term.
@@ -122,6 +123,7 @@ class TransportModel : public TurbulenceModel {
   void relax(const Grid& g);
   struct Work;
   void sweep_lines(const Block& b, Work& w, bool forward) const;
+  void invert_point_blocks(const Block& b, Work& w) const;
   void sweep_points(const Block& b, Work& w, bool forward) const;
   void apply_update(const Grid& g, FlowField& f);
 
@@ -133,8 +135,9 @@ class TransportModel : public TurbulenceModel {
     std::array<GhostArray<Real>, 3> U;
     std::array<GhostArray<TurbState>, 3> aL, aR;
     GhostArray<TurbState> R, D, dphi;
-    GhostArray<TurbState> Dx;        // off-diagonal point-block entries (0,1), (1,0) from wall BCs
-    GhostArray<Eigen::Matrix2d> M;   // 2x2 point blocks: D, plus the source couplings (coupled_sources())
+    GhostArray<TurbState> Dx;        // off-diagonal point-block entries (0,1), (1,0) from wall BCs (coupled() only)
+    GhostArray<Eigen::Matrix2d> M;   // 2x2 point blocks: D, plus the source couplings (coupled())
+    GhostArray<Eigen::Matrix2d> M_inv;  // their inverses (point smoother, coupled() only)
     int line_dir = 0;                // direction of the relaxation's lines (stiffest_direction)
     LineFactorization<2> lines;      // their factorization (smoother "lines")
     GhostArray<Real> lam;         // spectral radius of the cell's faces (pseudo-time term)
