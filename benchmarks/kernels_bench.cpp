@@ -13,7 +13,7 @@
 #include "implicit/jacobian.hpp"
 #include "multigrid/fas.hpp"
 #include "physics/ac_flux.hpp"
-#include "physics/planar.hpp"
+#include "physics/invariant_direction.hpp"
 #include "physics/residual.hpp"
 #include "turbulence/model.hpp"
 
@@ -68,7 +68,7 @@ BENCHMARK(BM_NumericalJacobianPerFace);
 
 // The R1 flat plate, advanced a few iterations so the state is a real flow.
 // `planar`: skip the symmetry planes as `narwhal run` does for this case
-// (physics/planar.hpp); the sweep benchmarks keep the full 3-D path, whose bytes
+// (physics/invariant_direction.hpp); the sweep benchmarks keep the full 3-D path, whose bytes
 // per cell the roofline in benchmarks/README.md counts.
 struct Plate {
   CaseConfig c;
@@ -81,8 +81,8 @@ struct Plate {
     fp = flow_params(c);
     f.allocate(g, fp, c.initial);
     if (planar) {
-      mark_planar_blocks(g, f, fp);
-      if (g.blocks[0].planar_dir < 0) throw std::runtime_error("the R1 plate should be a planar slab");
+      mark_invariant_directions(g, f, fp);
+      if (g.blocks[0].invariant_dir < 0) throw std::runtime_error("the R1 plate should be a planar slab");
     }
   }
 };
@@ -174,7 +174,7 @@ struct TurbulentPlate {
     g = build_grid(c);
     fp = flow_params(c);
     f.allocate(g, fp, c.initial);
-    mark_planar_blocks(g, f, fp);
+    mark_invariant_directions(g, f, fp);
     mg = std::make_unique<Multigrid>(g, f, fp, c.solver.newton, c.solver.multigrid);
     coupling = std::make_unique<TurbulenceCoupling>(c.turbulence, g, f, fp, mg.get(), false);
     model = coupling->model();

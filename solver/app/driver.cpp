@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "app/stall_detector.hpp"
 #include "app/turbulence_coupling.hpp"
 #include "bc/boundary.hpp"
 #include "io/cgns_writer.hpp"
@@ -21,7 +22,7 @@
 #include "parallel/communicator.hpp"
 #include "parallel/distribution.hpp"
 #include "physics/flow_rate.hpp"
-#include "physics/planar.hpp"
+#include "physics/invariant_direction.hpp"
 #include "physics/wall_forces.hpp"
 #include "turbulence/model.hpp"
 #include "version.hpp"
@@ -32,6 +33,7 @@ const char* to_string(RunStatus s) {
   switch (s) {
     case RunStatus::Converged: return "converged";
     case RunStatus::MaxIterations: return "max_iterations";
+    case RunStatus::Stalled: return "stalled";
     case RunStatus::Diverged: return "diverged";
   }
   return "?";
@@ -245,9 +247,9 @@ class SteadyRun {
   // turbulence model is loosely coupled (§8.6): one update after every mean-flow
   // step, or with coupling "smoothing" after every fine-level smoothing step.
   void build_solvers() {
-    if (c_.solver.planar_shortcut) {
-      const std::string planar = mark_planar_blocks(g_, field_, fp_);
-      if (!planar.empty() && root_) fmt::print("narwhal: {}\n", planar);
+    if (c_.solver.invariant_shortcut) {
+      const std::string note = mark_invariant_directions(g_, field_, fp_);
+      if (!note.empty() && root_) fmt::print("narwhal: {}\n", note);
     }
     if (c_.solver.multigrid.levels > 1) {
       mg_ = std::make_unique<Multigrid>(g_, field_, fp_, c_.solver.newton, c_.solver.multigrid);
@@ -275,6 +277,7 @@ class SteadyRun {
     // The restored state's monitors are those of the iteration that wrote it; a run
     // resumed from the restart its converged end wrote has nothing left to do.
     monitors_.restore(info_);
+    stall_.restore(info_.stall_anchor, info_.stall_anchor_iteration);
     s_.residual_drop = monitors_.drop;
     measure_forces();
     if (info_.iteration > 0 && monitors_.converged(c_.solver.residual_drop)) s_.status = RunStatus::Converged;
@@ -354,7 +357,43 @@ class SteadyRun {
       s_.status = RunStatus::Converged;
       return true;
     }
+    if (stall_.observe(it, std::max(monitors_.drop, monitors_.turb_drop))) {
+      s_.status = RunStatus::Stalled;
+      s_.message = describe_stall(it);
+      return true;
+    }
     return false;
+  }
+
+  // Collective: the slowest equation (the largest drop against its own largest
+  // residual) and where its residual is largest.
+  std::string describe_stall(int it) {
+    const std::array<Real, kNumEq> drops = monitors_.equation_drops();
+    std::string slowest = kEquationNames[0];
+    Real worst = drops[0];
+    int mean_flow_equation = 0, turbulence_variable = -1;
+    for (int m = 1; m < kNumEq; ++m)
+      if (drops[m] > worst) {
+        worst = drops[m];
+        slowest = kEquationNames[m];
+        mean_flow_equation = m;
+      }
+    for (std::size_t m = 0; m < turb_names_.size(); ++m) {
+      const Real d = monitors_.turb_ref[m] > 0.0 ? monitors_.turb_res[m] / monitors_.turb_ref[m] : 0.0;
+      if (d > worst) {
+        worst = d;
+        slowest = turb_names_[m];
+        turbulence_variable = static_cast<int>(m);
+      }
+    }
+    const std::string where = turbulence_variable >= 0
+                                  ? turb_->describe_largest_residual(g_, turbulence_variable, comm_)
+                                  : solver().describe_largest_residual(mean_flow_equation);
+    return fmt::format(
+        "the residuals have not fallen by a factor {:g} in {} iterations (since iteration {}, drop {:.2e}); the slowest "
+        "equation is {} (drop {:.2e}), its largest residual at {}",
+        stall_.fall(), it - stall_.anchor_iteration(), stall_.anchor_iteration(), stall_.anchor(), slowest, worst,
+        where);
   }
 
   void checkpoint(int it) {
@@ -362,6 +401,8 @@ class SteadyRun {
     RestartInfo r{it, solver().reference_norm(), elapsed(), {-1.0, -1.0}, flow_rate_ ? flow_rate_->magnitude() : -1.0,
                   c_.turbulence.model};
     monitors_.store(r);
+    r.stall_anchor = stall_.anchor();
+    r.stall_anchor_iteration = stall_.anchor_iteration();
     FlowField& out = assemble();
     if (root_) write_restart(restart_path_, pieces_ ? whole_ : g_, out, r, c_.text);
     last_restart_ = it;
@@ -474,6 +515,7 @@ class SteadyRun {
   std::map<std::string, ForceCoefficients> forces_;
   std::map<std::string, std::vector<WallFace>> faces_;  // reused every iteration
   RunSummary s_;
+  StallDetector stall_{c_.solver.stall_window, c_.solver.stall_factor};
   Clock::time_point started_ = Clock::now(), last_print_ = Clock::now();
 };
 

@@ -17,7 +17,8 @@ struct RunOptions {
   bool progress = false;              // live progress line (only on a terminal)
 };
 
-enum class RunStatus { Converged, MaxIterations, Diverged };
+// Stalled: the residuals stopped falling (solver.stall_window, app/stall_detector.hpp).
+enum class RunStatus { Converged, MaxIterations, Stalled, Diverged };
 const char* to_string(RunStatus s);
 
 struct RunSummary {

@@ -88,7 +88,7 @@ void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
     auto& nu = f.nu[ib];
     const PatchRange r = extended_cell_range(b, p);
     const int d = side_dir(p.side);
-    if (d == b.planar_dir) {  // the mirror of an in-plane state is the state itself (physics/planar.hpp)
+    if (d == b.invariant_dir) {  // the mirror of an in-plane state is the state itself (physics/invariant_direction.hpp)
       for_each_in(r, [&](Index3 c) {
         Q(ghost_cell(b, p.side, c, m)) = Q(interior_cell(b, p.side, c, m));
         nu(ghost_cell(b, p.side, c, m)) = nu(interior_cell(b, p.side, c, m));
@@ -127,7 +127,7 @@ void fill_tensor_ghosts(const Grid& g, std::vector<GhostArray<Mat3>>& T) {
     const Block& b = g.blocks[ib];
     auto& Tb = T[ib];
     const PatchRange r = extended_cell_range(b, p);
-    const bool mirror = p.type == BcType::Symmetry && side_dir(p.side) != b.planar_dir;
+    const bool mirror = p.type == BcType::Symmetry && side_dir(p.side) != b.invariant_dir;
     for_each_in(r, [&](Index3 c) {
       const Mat3& Tm = Tb(interior_cell(b, p.side, c, m));
       if (mirror) {

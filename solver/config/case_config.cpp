@@ -210,8 +210,13 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                                 Range::open(0, 1));
   s.divergence_factor = r.number_or("solver.divergence_factor", s.divergence_factor,
                                     "the residual growth that counts as divergence", Range::above(1));
-  s.planar_shortcut = r.boolean_or("solver.planar_shortcut", s.planar_shortcut,
-                                   "whether planar slabs skip their cancelling symmetry-plane faces");
+  s.stall_window = r.integer_or("solver.stall_window", s.stall_window,
+                                "iterations without a fall by stall_factor that end a run as stalled (0: never)",
+                                Range::between(0, 1e9));
+  s.stall_factor = r.number_or("solver.stall_factor", s.stall_factor,
+                               "the fall of the convergence measure that counts as progress", Range::above(1));
+  s.invariant_shortcut = r.boolean_or("solver.invariant_shortcut", s.invariant_shortcut,
+                                   "whether one-cell invariant layers (planar slabs, self-periodic layers) skip their cancelling faces");
   s.newton.cfl_start = r.number_or("solver.cfl_start", s.newton.cfl_start, "the initial CFL number", Range::positive());
   s.newton.cfl_max = r.number_or("solver.cfl_max", s.newton.cfl_max, "the largest CFL number",
                                  Range::at_least(s.newton.cfl_start));

@@ -52,7 +52,13 @@ struct SolverConfig {
   int max_iterations = 1000;
   Real residual_drop = 1e-10;      // converged when |R| / |R_0| falls below
   Real divergence_factor = 1e4;    // diverged when |R| / |R_0| exceeds
-  bool planar_shortcut = true;     // skip the cancelling symmetry faces of planar slabs (physics/planar.hpp)
+  // Stalled when the convergence measure has not fallen by stall_factor for
+  // stall_window iterations (app/stall_detector.hpp; 0: never). 2000: the longest
+  // such stretch of a ladder run that went on to converge was 1562 (Launder-Sharma,
+  // TMR plate 137; turbulence/DESIGN.md).
+  int stall_window = 2000;
+  Real stall_factor = 2.0;
+  bool invariant_shortcut = true;  // skip the cancelling faces of one-cell invariant layers (physics/invariant_direction.hpp)
 };
 
 struct OutputConfig {

@@ -6,7 +6,7 @@ int stiffest_direction(const Block& b) {
   int best = -1;
   Real best_sum = -1.0;
   for (int d = 0; d < 3; ++d) {
-    if (d == b.planar_dir || b.n(d) < 2) continue;
+    if (d == b.invariant_dir || b.n(d) < 2) continue;
     Real sum = 0.0;
     for_each_cell(b, [&](int i, int j, int k) {
       const Index3 c{i, j, k};
@@ -18,7 +18,7 @@ int stiffest_direction(const Block& b) {
     }
   }
   if (best >= 0) return best;
-  return b.planar_dir == 0 ? 1 : 0;  // one cell per line: any non-planar direction solves it
+  return b.invariant_dir == 0 ? 1 : 0;  // one cell per line: any other direction solves it
 }
 
 }  // namespace narwhal

@@ -24,8 +24,8 @@ namespace narwhal {
 
 // The direction whose faces couple the block's cells most strongly by geometry: the
 // largest sum over the cells of |S_d|^2 / V (the diffusive coupling per unit
-// diffusivity, dominated by the thinnest cells). Never the planar direction of a
-// 2-D block, nor one with a single cell when another has more.
+// diffusivity, dominated by the thinnest cells). Never the invariant direction of a
+// block (Block::invariant_dir), nor one with a single cell when another has more.
 int stiffest_direction(const Block& b);
 
 // Rows along a line of direction L, for every cell c of the block:

@@ -135,7 +135,7 @@ void NewtonSolver::check_finite() const {
   throw DivergenceError(what);
 }
 
-std::string NewtonSolver::describe_largest_residual() const {
+std::string NewtonSolver::describe_largest_residual(int equation) const {
   Real worst = -1.0;
   std::string where;
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
@@ -143,6 +143,7 @@ std::string NewtonSolver::describe_largest_residual() const {
     const Block& b = g_.blocks[ib];
     for_each_cell(b, [&](int i, int j, int k) {
       for (int m = 0; m < kNumEq; ++m) {
+        if (equation >= 0 && m != equation) continue;
         const Real r = std::abs(R_[ib](i, j, k)[m]) / b.vol(i, j, k);
         if (r <= worst) continue;
         worst = r;
@@ -151,13 +152,7 @@ std::string NewtonSolver::describe_largest_residual() const {
       }
     });
   }
-  if (g_.owner.empty()) return where;
-  const Communicator comm = Communicator::world();
-  const Real global = comm.max(worst);
-  // The lowest rank holding the largest value tells.
-  const int teller = static_cast<int>(comm.min(worst == global ? comm.rank() : comm.size()));
-  comm.broadcast(where, teller);
-  return where;
+  return description_of_largest(Communicator::world(), worst, std::move(where));
 }
 
 IterationNorms NewtonSolver::evaluate_residual() {
@@ -203,7 +198,7 @@ void NewtonSolver::assemble_block(int ib, Real cfl) {
   // Physical boundary faces: replace by the derivative through the BC (§5.0).
   for (const Patch& p : b.patches) {
     const int d = side_dir(p.side);
-    if (d == b.planar_dir) continue;  // no coupling across the symmetry planes of a planar slab
+    if (d == b.invariant_dir) continue;  // no coupling across an invariant layer's cancelling faces
     const PatchRange r = face_range(p);
     if (p.type == BcType::Interface) {  // the neighbour's cells sit in the ghosts: an ordinary face
       for_each_in(r, [&](Index3 c) { interior_face(d, boundary_face_index(b, p.side, c)); });
@@ -231,7 +226,7 @@ void NewtonSolver::assemble_block(int ib, Real cfl) {
         Mat4 D = Mat4::Zero();
         Real lambda = 0.0, s2 = 0.0;
         for (int d = 0; d < 3; ++d) {
-          if (d == b.planar_dir) continue;  // the 2-D problem's own spectral radius
+          if (d == b.invariant_dir) continue;  // the 2-D problem's own spectral radius
           const Index3 up = add(c, unit(d));
           D += AL_[ib][d](up) - AR_[ib][d](c);
           const Vec3 Sbar = 0.5 * (b.S[d](c) + b.S[d](up));
@@ -258,7 +253,7 @@ void NewtonSolver::sweep_block(int ib, bool forward) {
     const Index3 c{i, j, k};
     State r = -R(c);
     for (int d = 0; d < 3; ++d) {
-      if (d == b.planar_dir) continue;
+      if (d == b.invariant_dir) continue;
       const Index3 e = unit(d);
       const Index3 up = add(c, e), dn = add(c, e, -1);
       r.noalias() -= AR[d](up) * dQ(up);

@@ -79,8 +79,9 @@ class NewtonSolver {
   // first non-finite one.
   void check_finite() const;
 
-  // "block 'b' cell (i, j, k), equation u: |R|/V = ..." for the largest residual.
-  std::string describe_largest_residual() const;
+  // "block 'b' cell (i, j, k), equation u: |R|/V = ..." for the largest residual of
+  // `equation` (-1: of any). Collective over the world communicator.
+  std::string describe_largest_residual(int equation = -1) const;
 
  private:
   void assemble_block(int ib, Real cfl);

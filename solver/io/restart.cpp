@@ -244,6 +244,8 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
     write_scalar_attr(path, file, "turbulence_reference_0", H5T_NATIVE_DOUBLE, info.turbulence_reference[0]);
     write_scalar_attr(path, file, "turbulence_reference_1", H5T_NATIVE_DOUBLE, info.turbulence_reference[1]);
     write_scalar_attr(path, file, "body_force", H5T_NATIVE_DOUBLE, info.body_force);
+    write_scalar_attr(path, file, "stall_anchor", H5T_NATIVE_DOUBLE, info.stall_anchor);
+    write_scalar_attr(path, file, "stall_anchor_iteration", H5T_NATIVE_INT, info.stall_anchor_iteration);
     const std::array<double, 14> monitors{info.residual[0], info.residual[1], info.residual[2], info.residual[3],
                                           info.residual_total, info.cfl, info.residual_drop,
                                           info.turbulence_residual[0], info.turbulence_residual[1],
@@ -325,6 +327,10 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
   info.reference_norm = read_scalar_attr<double>(path, file, "reference_norm", H5T_NATIVE_DOUBLE);
   info.wall_seconds = read_scalar_attr<double>(path, file, "wall_seconds", H5T_NATIVE_DOUBLE);
   info.body_force = read_scalar_attr<double>(path, file, "body_force", H5T_NATIVE_DOUBLE);
+  if (H5Aexists(file, "stall_anchor") > 0) {  // older restarts: the detector starts afresh
+    info.stall_anchor = read_scalar_attr<double>(path, file, "stall_anchor", H5T_NATIVE_DOUBLE);
+    info.stall_anchor_iteration = read_scalar_attr<int>(path, file, "stall_anchor_iteration", H5T_NATIVE_INT);
+  }
   info.turbulence_reference[0] = read_scalar_attr<double>(path, file, "turbulence_reference_0", H5T_NATIVE_DOUBLE);
   info.turbulence_reference[1] = read_scalar_attr<double>(path, file, "turbulence_reference_1", H5T_NATIVE_DOUBLE);
   std::vector<double> m;

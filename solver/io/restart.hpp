@@ -34,6 +34,10 @@ struct RestartInfo {
   Real residual_drop = 1.0;                  // |R| / |R_0| of the mean flow
   std::array<Real, 2> turbulence_residual{};  // the model's residuals
   Real turbulence_drop = 0.0;                 // the largest drop of the model's residuals
+  // The stall detector's anchor and the iteration it was set (app/stall_detector.hpp);
+  // anchor < 0: none (also for restarts written before the detector existed).
+  Real stall_anchor = -1.0;
+  int stall_anchor_iteration = 0;
 };
 
 // Writes atomically (temporary file + rename) so a crash never leaves a torn restart;

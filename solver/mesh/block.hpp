@@ -58,11 +58,11 @@ struct Block {
   GhostArray<Real> vol;                // cell volumes (§2.3)
   GhostArray<Vec3> xc;                 // cell centres: mean of the 8 corner nodes (§2.1)
   std::vector<Patch> patches;
-  // Direction in which the block is a one-cell slab between parallel symmetry
-  // planes carrying no flow across them (a planar 2-D problem), or -1. Set only
-  // by mark_planar_blocks (physics/planar.hpp); the solver then skips those
-  // faces, whose fluxes cancel exactly.
-  int planar_dir = -1;
+  // Direction in which the block is a one-cell layer whose solution does not vary
+  // (a planar slab between symmetry planes, or a layer periodic onto itself), or -1.
+  // Set only by mark_invariant_directions (physics/invariant_direction.hpp); the
+  // solver then skips those faces, whose fluxes cancel exactly.
+  int invariant_dir = -1;
   // A piece cut by the load balancer (parallel/partition.hpp) remembers the block it
   // came from and where it starts there: files are written in the uncut layout, so
   // that a run on any number of ranks reads and writes the same files.

@@ -44,7 +44,7 @@ Grid coarsen(const Grid& g) {
   for (const Block& b : g.blocks) {
     const Index3 c = coarsening_factors(b);
     Block cb(b.name, b.ni / c[0], b.nj / c[1], b.nk / c[2]);
-    cb.planar_dir = b.planar_dir;  // a slab stays a slab: the one-cell direction is not coarsened
+    cb.invariant_dir = b.invariant_dir;  // a slab stays a slab: the one-cell direction is not coarsened
     cb.parent = b.parent;
     for (int d = 0; d < 3; ++d) cb.parent_offset[d] = b.parent_offset[d] / c[d];
     for (int k = 0; k <= cb.nk; ++k)

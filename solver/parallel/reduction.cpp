@@ -16,4 +16,12 @@ std::vector<Real> sum_in_block_order(const Grid& g, std::vector<Real> partials, 
   return total;
 }
 
+std::string description_of_largest(const Communicator& comm, Real local_largest, std::string local_description) {
+  if (comm.size() == 1) return local_description;
+  const Real global = comm.max(local_largest);
+  const int teller = static_cast<int>(comm.min(local_largest == global ? comm.rank() : comm.size()));
+  comm.broadcast(local_description, teller);
+  return local_description;
+}
+
 }  // namespace narwhal

@@ -12,7 +12,7 @@ namespace {
 void add_nonlinear_stress_flux(const Block& b, const GhostArray<Mat3>& T, GhostArray<State>& Rb) {
   auto flux = [&](int d, const Index3& f) { return Vec3(0.5 * (T(add(f, unit(d), -1)) + T(f)) * b.S[d](f)); };
   for (int d = 0; d < 3; ++d) {
-    if (d == b.planar_dir) continue;  // in-plane S and mirror ghosts: no net flux
+    if (d == b.invariant_dir) continue;  // its two faces cancel (physics/invariant_direction.hpp)
     for_each_interior_face(b, d, [&](const Index3& f) {
       const Vec3 F = flux(d, f);
       Rb(add(f, unit(d), -1)).tail<3>() -= F;
@@ -20,7 +20,7 @@ void add_nonlinear_stress_flux(const Block& b, const GhostArray<Mat3>& T, GhostA
     });
   }
   for (const Patch& p : b.patches) {
-    if (p.type == BcType::Wall || side_dir(p.side) == b.planar_dir) continue;
+    if (p.type == BcType::Wall || side_dir(p.side) == b.invariant_dir) continue;
     const int d = side_dir(p.side);
     for_each_in(face_range(p), [&](Index3 c) {
       const Vec3 F = flux(d, boundary_face_index(b, p.side, c));
@@ -61,7 +61,7 @@ State viscous_face_flux(const Block& b, const GhostArray<State>& Q, const GhostA
   Vec3 GS = dun * S.squaredNorm();
   Vec3 GtS = S * dun.dot(S);
   for (int t : {(d + 1) % 3, (d + 2) % 3}) {
-    if (t == b.planar_dir) continue;  // mirror ghosts, in-plane S: the term is exactly zero (physics/planar.hpp)
+    if (t == b.invariant_dir) continue;  // nothing varies along it: the term is exactly zero (physics/invariant_direction.hpp)
     const Index3 et = unit(t);
     const Vec3 du = 0.25 * (Q(add(cL, et)).tail<3>() + Q(add(cR, et)).tail<3>() - Q(add(cL, et, -1)).tail<3>() -
                             Q(add(cR, et, -1)).tail<3>());
@@ -132,7 +132,7 @@ void compute_residual(const Grid& g, const FlowField& fl, const FlowParams& fp, 
       });
     }
     for (const Patch& p : b.patches) {
-      if (side_dir(p.side) == b.planar_dir) continue;  // the two symmetry planes cancel (physics/planar.hpp)
+      if (side_dir(p.side) == b.invariant_dir) continue;  // the layer's two faces cancel (physics/invariant_direction.hpp)
       const PatchRange r = face_range(p);
       for_each_in(r, [&](Index3 c) {
         const State F = boundary_face_flux(b, p, Q, nu, c, fp);

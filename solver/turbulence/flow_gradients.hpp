@@ -1,6 +1,6 @@
 #pragma once
 // Cell velocity gradients for the turbulence models (NUMERICS §8.1): Green–Gauss with
-// face values averaged from the two cells; the planar direction's faces cancel.
+// face values averaged from the two cells; the invariant direction's faces cancel.
 #include "mesh/block.hpp"
 #include "physics/flow.hpp"
 
@@ -10,7 +10,7 @@ namespace narwhal {
 inline Mat3 velocity_gradient(const Block& b, const GhostArray<State>& Q, const Index3& c) {
   Mat3 G = Mat3::Zero();
   for (int d = 0; d < 3; ++d) {
-    if (d == b.planar_dir) continue;
+    if (d == b.invariant_dir) continue;
     const Index3 e = unit(d);
     const Index3 up = add(c, e), dn = add(c, e, -1);
     G += 0.5 * (Q(c).tail<3>() + Q(up).tail<3>()) * b.S[d](up).transpose() -

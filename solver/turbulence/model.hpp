@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "mesh/block.hpp"
+#include "parallel/communicator.hpp"
 #include "physics/flow.hpp"
 #include "turbulence/nonlinear_stress.hpp"
 #include "turbulence/wall_distance.hpp"
@@ -78,6 +79,12 @@ class TurbulenceModel {
   virtual void update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) = 0;
   // Cell eddy viscosity nu_t (nondimensional) for output.
   virtual Real eddy_viscosity(const FlowField& f, const FlowParams& fp, int ib, const Index3& c) const = 0;
+  // Where variable m's residual of the latest update is largest ("block 'b' cell
+  // (i, j, k), k equation: |R|/V = ..."); empty for models without equations.
+  // Collective over `comm`.
+  virtual std::string describe_largest_residual(const Grid& /*g*/, int /*m*/, const Communicator& /*comm*/) const {
+    return "";
+  }
 };
 
 struct TurbulenceModelInfo {

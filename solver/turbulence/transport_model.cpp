@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "bc/boundary.hpp"
 #include "mesh/ghost_sweep.hpp"
 #include "parallel/communicator.hpp"
@@ -125,7 +127,7 @@ CellFlow TransportModel::cell_flow(const Block& b, int ib, const FlowField& f, c
     const auto& T = f.turb[ib];
     auto root = [&](const Index3& x) { return std::copysign(std::sqrt(std::abs(T(x)[0])), T(x)[0]); };
     for (int d = 0; d < 3; ++d) {
-      if (d == b.planar_dir) continue;
+      if (d == b.invariant_dir) continue;
       const Index3 e = unit(d);
       const Index3 up = add(c, e), dn = add(c, e, -1);
       cf.grad_phi += b.S[d](up) * (0.5 * (T(c) + T(up))).transpose() - b.S[d](c) * (0.5 * (T(c) + T(dn))).transpose();
@@ -147,7 +149,7 @@ CellFlow TransportModel::cell_flow(const Block& b, int ib, const FlowField& f, c
     for (int l = 0; l < 3; ++l) {
       Mat3 H = Mat3::Zero();  // d/dx_l of grad u
       for (int d = 0; d < 3; ++d) {
-        if (d == b.planar_dir) continue;
+        if (d == b.invariant_dir) continue;
         const Index3 e = unit(d);
         const Index3 up = add(c, e), dn = add(c, e, -1);
         H += 0.5 * (GU(c) + GU(up)) * b.S[d](up)[l] - 0.5 * (GU(c) + GU(dn)) * b.S[d](c)[l];
@@ -187,12 +189,12 @@ void TransportModel::compute_volume_fluxes(const Grid& g, const FlowField& f, co
     const Block& b = g.blocks[ib];
     Work& w = work_[ib];
     for (int d = 0; d < 3; ++d) {
-      if (d == b.planar_dir) continue;
+      if (d == b.invariant_dir) continue;
       for_each_interior_face(b, d, [&](const Index3& fi) { w.U[d](fi) = interior_volume_flux(b, f.Q[ib], d, fi, fp); });
     }
     for (const Patch& p : b.patches) {
       const int d = side_dir(p.side);
-      if (d == b.planar_dir) continue;
+      if (d == b.invariant_dir) continue;
       for_each_in(face_range(p), [&](Index3 c) {
         const Index3 fi = boundary_face_index(b, p.side, c);
         w.U[d](fi) = boundary_face_flux(b, p, f.Q[ib], f.nu[ib], c, fp)[0] / fp.beta + b.kt[d](fi);
@@ -276,7 +278,7 @@ void TransportModel::assemble_interior_faces(const Block& b, int ib, const FlowF
   Work& w = work_[static_cast<std::size_t>(ib)];
   const auto& T = f.turb[static_cast<std::size_t>(ib)];
   for (int d = 0; d < 3; ++d) {
-    if (d == b.planar_dir) continue;
+    if (d == b.invariant_dir) continue;
     for_each_interior_face(b, d, [&](const Index3& fi) {
       const Index3 cL = add(fi, unit(d), -1), cR = fi;
       const Real U = w.U[d](fi);
@@ -302,7 +304,7 @@ void TransportModel::assemble_boundary_faces(const Block& b, int ib, const FlowF
   const Real nu = 1.0 / fp.reynolds;
   for (const Patch& p : b.patches) {
     const int d = side_dir(p.side);
-    if (d == b.planar_dir) continue;
+    if (d == b.invariant_dir) continue;
     const Real s = side_high(p.side) ? 1.0 : -1.0;
     for_each_in(face_range(p), [&](Index3 cc) {
       const Index3 fi = boundary_face_index(b, p.side, cc);
@@ -429,7 +431,7 @@ void TransportModel::sweep_lines(const Block& b, Work& w, bool forward) const {
   auto rhs = [&](const Index3& c) {  // -R and the other lines' latest corrections
     TurbState r = -w.R(c);
     for (int d = 0; d < 3; ++d) {
-      if (d == L || d == b.planar_dir) continue;
+      if (d == L || d == b.invariant_dir) continue;
       const Index3 up = add(c, unit(d)), dn = add(c, unit(d), -1);
       r -= w.aR[d](up).cwiseProduct(w.dphi(up)) + w.aL[d](c).cwiseProduct(w.dphi(dn));
     }
@@ -451,7 +453,7 @@ void TransportModel::sweep_points(const Block& b, Work& w, bool forward) const {
     const Index3 c{i, j, k};
     TurbState r = -w.R(c);
     for (int d = 0; d < 3; ++d) {
-      if (d == b.planar_dir) continue;
+      if (d == b.invariant_dir) continue;
       const Index3 e = unit(d);
       const Index3 up = add(c, e), dn = add(c, e, -1);
       r -= w.aR[d](up).cwiseProduct(w.dphi(up)) + w.aL[d](c).cwiseProduct(w.dphi(dn));
@@ -526,6 +528,23 @@ void TransportModel::update_viscosity(const Grid& g, FlowField& f, const FlowPar
     });
   }
   if (nonlinear) fill_tensor_ghosts(g, f.tau_nl);
+}
+
+std::string TransportModel::describe_largest_residual(const Grid& g, int m, const Communicator& comm) const {
+  Real worst = -1.0;
+  std::string where;
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib) || work_[ib].R.ni() != g.blocks[ib].ni) continue;
+    const Block& b = g.blocks[ib];
+    for_each_cell(b, [&](int i, int j, int k) {
+      const Real r = std::abs(work_[ib].R(i, j, k)[m]) / b.vol(i, j, k);
+      if (r <= worst) return;
+      worst = r;
+      where = fmt::format("block '{}' cell ({}, {}, {}), {} equation: |R|/V = {:.3e}", b.name, i, j, k,
+                          variable_name(m), r);
+    });
+  }
+  return description_of_largest(comm, worst, std::move(where));
 }
 
 Real TransportModel::eddy_viscosity(const FlowField& f, const FlowParams& fp, int ib, const Index3& c) const {

@@ -47,6 +47,7 @@ class TransportModel : public TurbulenceModel {
   TurbulenceNorms advance(Grid& g, FlowField& f, const FlowParams& fp, Real cfl) override;
   void update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) override;
   Real eddy_viscosity(const FlowField& f, const FlowParams& fp, int ib, const Index3& c) const override;
+  std::string describe_largest_residual(const Grid& g, int m, const Communicator& comm) const override;
 
   const WallDistance& walls() const { return wall_; }
 

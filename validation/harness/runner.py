@@ -15,7 +15,7 @@ from .errors import HarnessError
 from .extract import Context, extract
 from .references import resolve_reference
 
-EXIT_MEANING = {0: "converged", 1: "max_iterations", 2: "input error", 3: "diverged"}
+EXIT_MEANING = {0: "converged", 1: "not converged (max_iterations or stalled: run.json tells)", 2: "input error", 3: "diverged"}
 
 
 def git_sha(root):

@@ -291,6 +291,61 @@ TEST(Robustness, ResidualBlowUpNamesTheWorstCell) {
   EXPECT_NE(s.message.find("equation: |R|/V ="), std::string::npos) << s.message;
 }
 
+// SA on the coarsest TMR level with full steps once per cycle and point relaxation
+// oscillates with period 2 (turbulence/DESIGN.md): a run made to stall.
+CaseConfig oscillating_sa_plate(int stall_window) {
+  return load_case(test::source_path("validation/cases/tmr_flat_plate/flat_plate_sa.toml"),
+                   {"grid.coarsen=3", "turbulence.relaxation=1.0", "turbulence.smoother=\"points\"",
+                    "turbulence.coupling=\"cycle\"", "solver.stall_window=" + std::to_string(stall_window)});
+}
+
+TEST(Robustness, StalledRunEndsNamingTheSlowestEquationAndItsWorstCell) {
+  const CaseConfig c = oscillating_sa_plate(100);
+  const fs::path dir = test::fresh_temp_dir("narwhal_stall_test");
+  fs::remove_all(dir);
+  RunOptions o;
+  o.out_dir = dir.string();
+  const RunSummary s = run_case(c, o);
+  ASSERT_EQ(s.status, RunStatus::Stalled) << s.message;
+  std::printf("stalled run: %s (after %d iterations)\n", s.message.c_str(), s.iterations);
+  EXPECT_LT(s.iterations, 300);  // the limit is 3000: the plateau ends the run, not the limit
+  EXPECT_GT(s.residual_drop, 1e-4);
+  EXPECT_NE(s.message.find("not fallen by a factor 2 in 100 iterations"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("the slowest equation is "), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("block 'plate' cell ("), std::string::npos) << s.message;
+  const std::string json = slurp((dir / "run.json").string());
+  EXPECT_NE(json.find("\"status\": \"stalled\""), std::string::npos);
+  // The same case converges with the model's default scheme (lines, in the cycle).
+  const CaseConfig ok = load_case(test::source_path("validation/cases/tmr_flat_plate/flat_plate_sa.toml"),
+                                  {"grid.coarsen=3", "solver.stall_window=100"});
+  o.out_dir = (dir / "default").string();
+  EXPECT_EQ(run_case(ok, o).status, RunStatus::Converged);
+}
+
+// A run resumed from a restart written on the plateau stalls at the same iteration
+// as the uninterrupted one: the detector's anchor travels with the restart.
+TEST(Restart, StallDetectorStateContinuesFromTheRestart) {
+  const CaseConfig c = oscillating_sa_plate(100);
+  const fs::path dir = test::fresh_temp_dir("narwhal_stall_restart_test");
+  fs::remove_all(dir);
+  RunOptions full;
+  full.out_dir = (dir / "full").string();
+  const RunSummary whole = run_case(c, full);
+  ASSERT_EQ(whole.status, RunStatus::Stalled);
+  RunOptions first = full;
+  first.out_dir = (dir / "split").string();
+  first.max_iterations = whole.iterations - 30;
+  run_case(c, first);
+  fs::copy_file(dir / "split" / "restart.h5", dir / "restart_first.h5");
+  RunOptions second = first;
+  second.max_iterations.reset();
+  second.restart = (dir / "restart_first.h5").string();
+  const RunSummary resumed = run_case(c, second);
+  EXPECT_EQ(resumed.status, RunStatus::Stalled);
+  EXPECT_EQ(resumed.iterations, whole.iterations);
+  EXPECT_EQ(resumed.message, whole.message);
+}
+
 TEST(Outputs, RunWritesTheContractFilesAndCgnscheckAcceptsTheSolution) {
   CaseConfig c = small_plate();
   c.grid.split = {2, 1, 1};

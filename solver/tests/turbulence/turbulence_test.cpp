@@ -371,3 +371,31 @@ TEST(TurbulenceModels, UnknownNameListsTheValidOnes) {
 
 }  // namespace
 }  // namespace narwhal
+
+namespace narwhal {
+namespace {
+
+// What a stalled run prints for a model equation (app/driver.cpp): block, cell, variable.
+TEST(TransportModel, LargestResidualNamesBlockCellAndVariable) {
+  for (const char* model : {"sa", "sst"}) {
+    const CaseConfig c = load_case(test::source_path(kTmrCase),
+                                   {"grid.coarsen=3", std::string("turbulence.model=\"") + model + "\""});
+    Grid g = build_grid(c);
+    const FlowParams fp = flow_params(c);
+    FlowField f;
+    f.allocate(g, fp, c.initial);
+    const auto m = make_turbulence_model(c.turbulence, g);
+    m->initialize(g, f, fp, false);
+    fill_ghosts(g, f, fp);
+    m->update_viscosity(g, f, fp);
+    m->advance(g, f, fp, 10.0);
+    for (int v = 0; v < m->num_variables(); ++v) {
+      const std::string where = m->describe_largest_residual(g, v, Communicator::world());
+      EXPECT_NE(where.find("block 'plate' cell ("), std::string::npos) << where;
+      EXPECT_NE(where.find(m->variable_name(v) + " equation: |R|/V = "), std::string::npos) << where;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace narwhal
