@@ -94,7 +94,11 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
                    {"multigrid_cycle", c.solver.multigrid.gamma == 2 ? "W" : "V"},
                    {"turbulence_model", c.turbulence.model},
                    {"turbulence_smoother", c.turbulence.smoother},
-                   {"turbulence_coupling", c.turbulence.coupling}};
+                   {"turbulence_coupling", c.turbulence.coupling},
+                   {"turbulence_iterations", c.turbulence.iterations.value_or(0)},
+                   {"turbulence_relaxation", c.turbulence.relaxation.value_or(0.0)},
+                   {"stall_window", c.solver.stall_window},
+                   {"stall_factor", c.solver.stall_factor}};
   j["body_force"] = {body_force[0], body_force[1], body_force[2]};
   nlohmann::ordered_json f = nlohmann::ordered_json::object();
   for (const auto& [name, fc] : forces)

@@ -262,8 +262,8 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                                        "the free-stream eddy-viscosity ratio (SA: nu_tilde/nu)", Range::positive());
   t.intensity = r.number_or("turbulence.intensity", t.intensity, "the free-stream turbulence intensity (a fraction)",
                             Range::between(0, 1));
-  t.iterations = r.integer_or("turbulence.iterations", t.iterations, "model iterations per mean-flow step",
-                             kSmoothCount);
+  if (r.has("turbulence.iterations"))
+    t.iterations = r.integer("turbulence.iterations", "model iterations per update", kSmoothCount);
   t.sgs_iterations = r.integer_or("turbulence.sgs_iterations", t.sgs_iterations,
                                   "symmetric Gauss-Seidel pairs per model iteration", kSweepCount);
   t.cfl_max = r.number_or("turbulence.cfl_max", t.cfl_max, "the cap of the model's pseudo-time CFL number",

@@ -171,7 +171,7 @@ TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams&
   compute_volume_fluxes(g, f, fp);
   if (needs_velocity_hessian()) compute_velocity_gradients(g, f);
   TurbulenceNorms norms;
-  for (int it = 0; it < settings_.iterations; ++it) {
+  for (int it = 0; it < *settings_.iterations; ++it) {
     fill_scalar_ghosts(g, f, fp);
     compute_cell_data(g, f, fp);
     norms = assemble(g, f, fp, cfl_t);
