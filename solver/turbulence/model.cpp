@@ -20,7 +20,7 @@ const std::vector<TurbulenceModelInfo>& turbulence_models() {
       {"myong-kasagi", "Myong-Kasagi low-Re k-epsilon (turbulence/myong_kasagi.hpp)"},
       {"nonlinear-k-epsilon", "the paper's low-Re non-linear (quadratic stress) k-epsilon on Myong-Kasagi (turbulence/nonlinear_k_epsilon.hpp)"},
       {"sst", "Menter SST k-omega, the 2003 version as on NASA TMR (turbulence/menter_sst.hpp)", "lines", "smoothing",
-       1.0, 3},
+       1.0, 2},
   };
   return models;
 }

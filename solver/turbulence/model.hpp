@@ -100,9 +100,10 @@ struct TurbulenceModelInfo {
   // with period 2 on the 35 level and take 86 cycles instead of 21 on the 69).
   Real relaxation = 0.7;
   // Default of TurbulenceSettings::iterations (linearize, relax, update per call):
-  // 1; SST 3, whose k residual decides its convergence (TMR plate levels 35 to 273:
-  // 65, 69, 105 and 101 cycles against 208, 199, 197 and 144 with 1, at equal or
-  // lower wall time); SA's cycles grow with more (137 level: 28, 35, 41 for 1, 2, 3).
+  // 1; SST 2, whose k residual decides its convergence. TMR plate levels 35 to 273
+  // with 1, 2, 3: 208/102/65, 199/95/69, 197/143/105, 144/121/101 cycles; wall time
+  // equal on the 137 level, 1.13x (2) and 1.30x (3) on the 273 (medians of three).
+  // SA's cycles grow with more (137 level: 28, 35, 41).
   int iterations = 1;
 };
 

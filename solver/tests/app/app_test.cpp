@@ -81,7 +81,7 @@ TEST(CaseErrors, TurbulenceSchemeDefaultsByModelAndBadValuesAreNamed) {
   EXPECT_EQ(c.turbulence.iterations, 1);
   EXPECT_EQ(c.turbulence.relaxation, 0.7);
   const CaseConfig sst = parse_case(sa, "sa.toml", ".", {"turbulence.model=\"sst\""});
-  EXPECT_EQ(sst.turbulence.iterations, 3);
+  EXPECT_EQ(sst.turbulence.iterations, 2);
   EXPECT_EQ(sst.turbulence.relaxation, 1.0);
   EXPECT_EQ(parse_case(sa, "sa.toml", ".", {"turbulence.model=\"sst\"", "turbulence.iterations=1"}).turbulence.iterations,
             1);
