@@ -1,7 +1,5 @@
 #include "app/stall_detector.hpp"
 
-#include <cmath>
-
 namespace narwhal {
 
 bool StallDetector::observe(int iteration, Real measure) {

@@ -17,25 +17,27 @@ const std::string kPlateCase = "validation/cases/flat_plate_laminar/flat_plate.t
 const std::vector<std::string> kSmallPlate = {"grid.cells_runup=8", "grid.cells_plate=24", "grid.cells_normal=24",
                                               "grid.dx_leading_edge=8e-3", "grid.dy_wall=4e-4"};
 
-struct PlateSetup {
+struct CaseSetup {
   CaseConfig c;
   Grid g;
   FlowParams fp;
   FlowField f;
 };
 
-PlateSetup small_plate(std::vector<std::string> extra = {}) {
-  auto overrides = kSmallPlate;
+// The case, its grid and its initial field; `extra` overrides after `overrides`.
+CaseSetup set_up(const std::string& path, std::vector<std::string> overrides, const std::vector<std::string>& extra) {
   overrides.insert(overrides.end(), extra.begin(), extra.end());
-  PlateSetup s{load_case(test::source_path(kPlateCase), overrides), {}, {}, {}};
+  CaseSetup s{load_case(test::source_path(path), overrides), {}, {}, {}};
   s.g = build_grid(s.c);
   s.fp = flow_params(s.c);
   s.f.allocate(s.g, s.fp, s.c.initial);
   return s;
 }
 
+CaseSetup small_plate(std::vector<std::string> extra = {}) { return set_up(kPlateCase, kSmallPlate, extra); }
+
 // A non-uniform in-plane state: every face carries a different flux.
-void randomize_in_plane(PlateSetup& s, unsigned seed) {
+void randomize_in_plane(CaseSetup& s, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<Real> u(-0.5, 0.5);
   for (std::size_t ib = 0; ib < s.g.blocks.size(); ++ib)
@@ -43,7 +45,7 @@ void randomize_in_plane(PlateSetup& s, unsigned seed) {
 }
 
 TEST(Planar, FlatPlateIsASlabInK) {
-  PlateSetup s = small_plate();
+  CaseSetup s = small_plate();
   const Slab slab = slab_direction(s.g, 0);
   EXPECT_EQ(slab.kind, SlabKind::SymmetryPlanes);
   EXPECT_EQ(slab.dir, 2);
@@ -61,11 +63,11 @@ TEST(Planar, NotASlabWhenThickerOrNotSymmetricOrTilted) {
     EXPECT_EQ(slab_direction(g, 0).dir, -1);
   }
   {  // a wall on one of the planes
-    PlateSetup s = small_plate({"bc.side_hi.type=\"wall\""});
+    CaseSetup s = small_plate({"bc.side_hi.type=\"wall\""});
     EXPECT_EQ(slab_direction(s.g, 0).dir, -1);
   }
   {  // planes not parallel: one node of the upper plane lifted
-    PlateSetup s = small_plate();
+    CaseSetup s = small_plate();
     Block& b = s.g.blocks[0];
     b.x(3, 3, 1)[2] += 0.01;
     prepare_geometry(s.g);
@@ -74,18 +76,18 @@ TEST(Planar, NotASlabWhenThickerOrNotSymmetricOrTilted) {
 }
 
 TEST(Planar, FlowAcrossThePlaneKeepsTheFullTreatment) {
-  PlateSetup s = small_plate();
+  CaseSetup s = small_plate();
   s.f.Q[0](5, 5, 0)[3] = 1e-3;
   const std::string why = mark_invariant_directions(s.g, s.f, s.fp);
   EXPECT_NE(why.find("not planar"), std::string::npos) << why;
   EXPECT_EQ(s.g.blocks[0].invariant_dir, -1);
-  PlateSetup t = small_plate({"flow.initial_velocity=[1.0, 0.0, 0.1]"});
+  CaseSetup t = small_plate({"flow.initial_velocity=[1.0, 0.0, 0.1]"});
   EXPECT_NE(mark_invariant_directions(t.g, t.f, t.fp).find("not planar"), std::string::npos);
   EXPECT_EQ(t.g.blocks[0].invariant_dir, -1);
 }
 
 TEST(Planar, SkippingThePlanesLeavesTheResidualUnchanged) {
-  PlateSetup s = small_plate();
+  CaseSetup s = small_plate();
   randomize_in_plane(s, 7);
   fill_ghosts(s.g, s.f, s.fp);
   std::vector<GhostArray<State>> full, planar;
@@ -127,19 +129,14 @@ TEST(Planar, SameConvergedSkinFrictionWithAndWithoutTheShortcut) {
 const std::string kDuctCase = "validation/cases/square_duct_laminar/duct.toml";
 
 // A laminar duct periodic in x over `cells_x` cells, small cross-section.
-PlateSetup small_duct(int cells_x, std::vector<std::string> extra = {}) {
-  std::vector<std::string> overrides = {"grid.x=[0.0, 0.2, " + std::to_string(cells_x) + "]", "grid.y=[-1.0, 1.0, 12]",
-                                        "grid.z=[-1.0, 1.0, 12]"};
-  overrides.insert(overrides.end(), extra.begin(), extra.end());
-  PlateSetup s{load_case(test::source_path(kDuctCase), overrides), {}, {}, {}};
-  s.g = build_grid(s.c);
-  s.fp = flow_params(s.c);
-  s.f.allocate(s.g, s.fp, s.c.initial);
-  return s;
+CaseSetup small_duct(int cells_x, std::vector<std::string> extra = {}) {
+  return set_up(kDuctCase,
+                {"grid.x=[0.0, 0.2, " + std::to_string(cells_x) + "]", "grid.y=[-1.0, 1.0, 12]", "grid.z=[-1.0, 1.0, 12]"},
+                extra);
 }
 
 TEST(SelfPeriodic, OneCellPeriodicDuctIsInvariantAlongX) {
-  PlateSetup s = small_duct(1);
+  CaseSetup s = small_duct(1);
   const Slab slab = slab_direction(s.g, 0);
   EXPECT_EQ(slab.kind, SlabKind::SelfPeriodic);
   EXPECT_EQ(slab.dir, 0);
@@ -153,7 +150,6 @@ TEST(SelfPeriodic, OneCellPeriodicDuctIsInvariantAlongX) {
 TEST(SelfPeriodic, TwoCellsOrAnotherBlockAreNotALayer) {
   EXPECT_EQ(slab_direction(small_duct(2).g, 0).kind, SlabKind::None);
   // One cell but not periodic: walls at both x ends.
-  PlateSetup s = small_duct(1);
   Grid g;
   g.blocks.push_back(make_box("b", {0, 0.2, 1}, {0, 1, 4}, {0, 1, 4}));
   for (auto& p : g.blocks[0].patches) p.type = BcType::Wall;
@@ -163,7 +159,7 @@ TEST(SelfPeriodic, TwoCellsOrAnotherBlockAreNotALayer) {
 
 // Random 3-D velocities (u along the layer included): the periodic faces cancel.
 TEST(SelfPeriodic, SkippingTheFacesLeavesTheResidualUnchanged) {
-  PlateSetup s = small_duct(1, {"flow.viscous=\"full\""});
+  CaseSetup s = small_duct(1, {"flow.viscous=\"full\""});
   std::mt19937 rng(11);
   std::uniform_real_distribution<Real> u(-0.5, 0.5);
   for_each_cell(s.g.blocks[0], [&](int i, int j, int k) { s.f.Q[0](i, j, k) << u(rng), 1 + u(rng), u(rng), u(rng); });
