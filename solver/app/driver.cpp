@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "app/force_steadiness.hpp"
 #include "app/stall_detector.hpp"
 #include "app/turbulence_coupling.hpp"
 #include "bc/boundary.hpp"
@@ -78,6 +79,7 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
   for (const auto& [name, d] : s.turbulence_drops) drops[name] = d;
   j["equation_drops"] = drops;  // each against the largest residual it has had
   j["turbulence_drop"] = s.turbulence_drop;
+  if (s.force_span >= 0.0 && std::isfinite(s.force_span)) j["force_span"] = s.force_span;
   j["cost"] = {{"seconds_per_cycle", s.seconds_per_cycle}, {"peak_bytes_per_cell", s.peak_bytes_per_cell}};
   j["final_residual"] = {{"p", last.l2[0]}, {"u", last.l2[1]}, {"v", last.l2[2]}, {"w", last.l2[3]}};
   j["settings"] = {{"reynolds", c.flow.reynolds},
@@ -98,7 +100,9 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
                    {"turbulence_iterations", c.turbulence.iterations.value_or(0)},
                    {"turbulence_relaxation", c.turbulence.relaxation.value_or(0.0)},
                    {"stall_window", c.solver.stall_window},
-                   {"stall_factor", c.solver.stall_factor}};
+                   {"stall_factor", c.solver.stall_factor},
+                   {"force_tolerance", c.solver.force_tolerance},
+                   {"force_window", c.solver.force_window}};
   j["body_force"] = {body_force[0], body_force[1], body_force[2]};
   nlohmann::ordered_json f = nlohmann::ordered_json::object();
   for (const auto& [name, fc] : forces)
@@ -284,9 +288,10 @@ class SteadyRun {
     // resumed from the restart its converged end wrote has nothing left to do.
     monitors_.restore(info_);
     stall_.restore(info_.stall_anchor, info_.stall_anchor_iteration);
+    force_steadiness_.restore(info_.force_window, info_.force_components);
     s_.residual_drop = monitors_.drop;
     measure_forces();
-    if (info_.iteration > 0 && monitors_.converged(c_.solver.residual_drop)) s_.status = RunStatus::Converged;
+    if (info_.iteration > 0 && converged()) s_.status = RunStatus::Converged;
   }
 
   void announce() const {
@@ -304,6 +309,7 @@ class SteadyRun {
         const int it = s_.iterations + 1;
         step();
         measure_forces();
+        force_steadiness_.observe(forces_);
         if (flow_rate_) flow_rate_->update(g_, field_, faces_);
         if (history_) history_->write(it, elapsed(), monitors_.last, forces_, monitors_.turb_res);
         s_.iterations = it;
@@ -317,7 +323,12 @@ class SteadyRun {
       s_.message = fmt::format("iteration {}: {}", s_.iterations + 1, e.what());
     }
     // A resumed run that had nothing left to do has no residual of its own to locate.
-    if (s_.status == RunStatus::MaxIterations && s_.iterations > info_.iteration)
+    if (s_.status == RunStatus::MaxIterations && s_.iterations > info_.iteration &&
+        monitors_.converged(c_.solver.residual_drop))
+      s_.message = fmt::format("not converged: the residuals are down, the forces moved by {:.2e} of the largest over "
+                               "the last {} iterations (solver.force_tolerance {:.1e})",
+                               force_steadiness_.span(), force_steadiness_.window(), force_steadiness_.tolerance());
+    else if (s_.status == RunStatus::MaxIterations && s_.iterations > info_.iteration)
       s_.message = fmt::format("not converged (mean-flow drop {:.2e}{}); largest residual at {}", s_.residual_drop,
                                turb_ ? fmt::format(", turbulence drop {:.2e}", monitors_.turb_drop) : std::string(),
                                solver().describe_largest_residual());
@@ -351,6 +362,9 @@ class SteadyRun {
                                c_.output.moment_centre);
   }
 
+  // Residuals down by solver.residual_drop and, when the case asks, forces steady.
+  bool converged() const { return monitors_.converged(c_.solver.residual_drop) && force_steadiness_.steady(); }
+
   // True when the run stops here: diverged or converged.
   bool judge_convergence(int it) {
     if (!std::isfinite(monitors_.last.total) || monitors_.drop > c_.solver.divergence_factor) {
@@ -359,7 +373,7 @@ class SteadyRun {
                                monitors_.drop, c_.solver.divergence_factor, solver().describe_largest_residual());
       return true;
     }
-    if (monitors_.converged(c_.solver.residual_drop)) {
+    if (converged()) {
       s_.status = RunStatus::Converged;
       return true;
     }
@@ -409,6 +423,8 @@ class SteadyRun {
     monitors_.store(r);
     r.stall_anchor = stall_.anchor();
     r.stall_anchor_iteration = stall_.anchor_iteration();
+    r.force_window = force_steadiness_.state();
+    r.force_components = 3 * static_cast<int>(forces_.size());
     FlowField& out = assemble();
     if (root_) write_restart(restart_path_, pieces_ ? whole_ : g_, out, r, c_.text);
     last_restart_ = it;
@@ -445,6 +461,7 @@ class SteadyRun {
       s_.turbulence_drops.emplace_back(
           turb_names_[m], monitors_.turbulence_drop(m));
     s_.turbulence_drop = monitors_.turb_drop;
+    if (force_steadiness_.enabled()) s_.force_span = force_steadiness_.span();
     comm_.barrier();
     if (!root_) return;
     write_run_json(file("run.json"), c_, g_, s_, monitors_.last, forces_,
@@ -452,6 +469,8 @@ class SteadyRun {
     std::string drops = fmt::format("p {:.1e}, u {:.1e}, v {:.1e}, w {:.1e}", s_.equation_drops[0],
                                     s_.equation_drops[1], s_.equation_drops[2], s_.equation_drops[3]);
     for (const auto& [name, d] : s_.turbulence_drops) drops += fmt::format(", {} {:.1e}", name, d);
+    if (s_.force_span >= 0.0) drops += fmt::format("; force span {:.1e} over {}", s_.force_span,
+                                                   force_steadiness_.window());
     fmt::print("narwhal: {} after {} iterations, residual drop {:.2e} ({}), {:.1f} s{}{}\n", to_string(s_.status),
                s_.iterations, s_.residual_drop, drops, s_.wall_seconds, s_.message.empty() ? "" : ": ", s_.message);
     fmt::print("narwhal: cost {:.3g} ms per {}, peak memory {:.3g} kB per cell\n", 1e3 * s_.seconds_per_cycle,
@@ -522,6 +541,7 @@ class SteadyRun {
   std::map<std::string, std::vector<WallFace>> faces_;  // reused every iteration
   RunSummary s_;
   StallDetector stall_{c_.solver.stall_window, c_.solver.stall_factor};
+  ForceSteadiness force_steadiness_{c_.solver.force_window, c_.solver.force_tolerance};
   Clock::time_point started_ = Clock::now(), last_print_ = Clock::now();
 };
 

@@ -32,6 +32,9 @@ struct RunSummary {
   std::array<Real, 4> equation_drops{1.0, 1.0, 1.0, 1.0};
   std::vector<std::pair<std::string, Real>> turbulence_drops;
   Real turbulence_drop = 0.0;  // the largest of them: the one convergence waits for
+  // The wall forces' span over the last solver.force_window iterations, relative to
+  // the largest force (app/force_steadiness.hpp); < 0 when the run does not test it.
+  Real force_span = -1.0;
   std::string message;
   // Cost of this process's run: wall seconds per iteration (or cycle) it ran, and its
   // peak resident memory (all ranks together) per cell of the grid.

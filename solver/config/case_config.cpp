@@ -215,6 +215,12 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                                 Range::between(0, 1e9));
   s.stall_factor = r.number_or("solver.stall_factor", s.stall_factor,
                                "the fall of the convergence measure that counts as progress", Range::above(1));
+  s.force_tolerance = r.number_or("solver.force_tolerance", s.force_tolerance,
+                                  "the wall forces' span over force_window iterations, relative, that convergence "
+                                  "also waits for (0: residuals alone)",
+                                  Range::between(0, 1));
+  s.force_window = r.integer_or("solver.force_window", s.force_window,
+                                "the iterations over which the wall forces must be steady", Range::between(2, 1e6));
   s.invariant_shortcut = r.boolean_or("solver.invariant_shortcut", s.invariant_shortcut,
                                    "whether one-cell invariant layers (planar slabs, self-periodic layers) skip their cancelling faces");
   s.newton.cfl_start = r.number_or("solver.cfl_start", s.newton.cfl_start, "the initial CFL number", Range::positive());

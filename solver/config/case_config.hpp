@@ -58,6 +58,11 @@ struct SolverConfig {
   // TMR plate 137; turbulence/DESIGN.md).
   int stall_window = 2000;
   Real stall_factor = 2.0;
+  // Convergence also waits for the wall forces to settle (app/force_steadiness.hpp):
+  // their span over the last force_window iterations within force_tolerance of the
+  // largest force (0: residuals alone decide).
+  Real force_tolerance = 0.0;
+  int force_window = 5;
   bool invariant_shortcut = true;  // skip the cancelling faces of one-cell invariant layers (physics/invariant_direction.hpp)
 };
 

@@ -160,6 +160,17 @@ void write_dataset(const std::string& path, hid_t grp, const char* name, const s
 }
 
 // Reads a double dataset after checking that its shape is `dims`.
+// The length of a one-dimensional dataset (an error naming it otherwise).
+hsize_t dataset_length(const std::string& path, hid_t file, const std::string& name) {
+  if (H5Lexists(file, name.c_str(), H5P_DEFAULT) <= 0) fail("restart '{}': dataset '{}' is missing", path, name);
+  Hid ds{H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose};
+  Hid space{H5Dget_space(ds), H5Sclose};
+  if (H5Sget_simple_extent_ndims(space) != 1) fail("restart '{}': dataset '{}' is not one-dimensional", path, name);
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(space, &n, nullptr);
+  return n;
+}
+
 void read_dataset(const std::string& path, hid_t file, const std::string& name, const std::vector<hsize_t>& dims,
                   std::vector<double>& out) {
   if (H5Lexists(file, name.c_str(), H5P_DEFAULT) <= 0) fail("restart '{}': dataset '{}' is missing", path, name);
@@ -246,6 +257,10 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
     write_scalar_attr(path, file, "body_force", H5T_NATIVE_DOUBLE, info.body_force);
     write_scalar_attr(path, file, "stall_anchor", H5T_NATIVE_DOUBLE, info.stall_anchor);
     write_scalar_attr(path, file, "stall_anchor_iteration", H5T_NATIVE_INT, info.stall_anchor_iteration);
+    if (!info.force_window.empty()) {
+      write_scalar_attr(path, file, "force_components", H5T_NATIVE_INT, info.force_components);
+      write_dataset(path, file, "force_window", {info.force_window.size()}, info.force_window.data());
+    }
     const std::array<double, 14> monitors{info.residual[0], info.residual[1], info.residual[2], info.residual[3],
                                           info.residual_total, info.cfl, info.residual_drop,
                                           info.turbulence_residual[0], info.turbulence_residual[1],
@@ -330,6 +345,11 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
   if (H5Aexists(file, "stall_anchor") > 0) {  // older restarts: the detector starts afresh
     info.stall_anchor = read_scalar_attr<double>(path, file, "stall_anchor", H5T_NATIVE_DOUBLE);
     info.stall_anchor_iteration = read_scalar_attr<int>(path, file, "stall_anchor_iteration", H5T_NATIVE_INT);
+  }
+  if (H5Aexists(file, "force_components") > 0) {  // written only by runs that test their forces' steadiness
+    info.force_components = read_scalar_attr<int>(path, file, "force_components", H5T_NATIVE_INT);
+    const hsize_t n = dataset_length(path, file, "force_window");
+    read_dataset(path, file, "force_window", {n}, info.force_window);
   }
   info.turbulence_reference[0] = read_scalar_attr<double>(path, file, "turbulence_reference_0", H5T_NATIVE_DOUBLE);
   info.turbulence_reference[1] = read_scalar_attr<double>(path, file, "turbulence_reference_1", H5T_NATIVE_DOUBLE);

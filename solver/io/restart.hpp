@@ -11,6 +11,7 @@
 // reads a byte of it, and the message says which bytes.
 #include <array>
 #include <string>
+#include <vector>
 
 #include "mesh/block.hpp"
 #include "physics/flow.hpp"
@@ -38,6 +39,10 @@ struct RestartInfo {
   // anchor < 0: none (also for restarts written before the detector existed).
   Real stall_anchor = -1.0;
   int stall_anchor_iteration = 0;
+  // The force-steadiness window (app/force_steadiness.hpp), flattened oldest first,
+  // and the components per sample; empty: none (also for older restarts).
+  std::vector<Real> force_window{};
+  int force_components = 0;
 };
 
 // Writes atomically (temporary file + rename) so a crash never leaves a torn restart;

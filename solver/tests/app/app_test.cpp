@@ -353,6 +353,40 @@ TEST(Restart, StallDetectorStateContinuesFromTheRestart) {
   EXPECT_EQ(resumed.message, whole.message);
 }
 
+// A run that waits for its forces to settle stops at the same iteration when resumed
+// from a restart written while its force window was filling.
+TEST(Restart, ForceSteadinessWindowContinuesFromTheRestart) {
+  CaseConfig c = small_plate();
+  c.solver.residual_drop = 1e-3;
+  const fs::path dir = test::fresh_temp_dir("narwhal_force_window_restart_test");
+  fs::remove_all(dir);
+  RunOptions residuals_only;
+  residuals_only.out_dir = (dir / "residuals").string();
+  const RunSummary early = run_case(c, residuals_only);
+  ASSERT_EQ(early.status, RunStatus::Converged);
+  EXPECT_LT(early.force_span, 0.0);  // not tested, not reported
+  c.solver.force_tolerance = 1e-9;
+  c.solver.force_window = 6;
+  RunOptions full;
+  full.out_dir = (dir / "full").string();
+  const RunSummary whole = run_case(c, full);
+  ASSERT_EQ(whole.status, RunStatus::Converged);
+  EXPECT_GT(whole.iterations, early.iterations + c.solver.force_window);  // the forces decided
+  EXPECT_LE(whole.force_span, 1e-9);
+  RunOptions first = full;
+  first.out_dir = (dir / "split").string();
+  first.max_iterations = whole.iterations - 3;  // three samples short of the uninterrupted stop
+  run_case(c, first);
+  fs::copy_file(dir / "split" / "restart.h5", dir / "restart_first.h5");
+  RunOptions second = first;
+  second.max_iterations.reset();
+  second.restart = (dir / "restart_first.h5").string();
+  const RunSummary resumed = run_case(c, second);
+  EXPECT_EQ(resumed.status, RunStatus::Converged);
+  EXPECT_EQ(resumed.iterations, whole.iterations);
+  EXPECT_EQ(resumed.force_span, whole.force_span);
+}
+
 TEST(Outputs, RunWritesTheContractFilesAndCgnscheckAcceptsTheSolution) {
   CaseConfig c = small_plate();
   c.grid.split = {2, 1, 1};
