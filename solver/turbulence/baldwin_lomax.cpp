@@ -16,6 +16,14 @@ constexpr Real kappa = 0.40, aplus = 26.0, ccp = 1.6, ckleb = 0.3, cwk = 0.25, k
 
 }  // namespace
 
+FunctionPeak refined_peak(const Real y[3], const Real F[3]) {
+  const Real d01 = (F[1] - F[0]) / (y[1] - y[0]), d12 = (F[2] - F[1]) / (y[2] - y[1]);
+  const Real a = (d12 - d01) / (y[2] - y[0]);  // F = F1 + (y - y1) (d01 + a (y - y0))
+  if (!(a < 0.0)) return {y[1], F[1]};          // no interior maximum: keep the cell's
+  const Real yp = std::clamp(0.5 * (y[0] + y[1]) - 0.5 * d01 / a, y[0], y[2]);
+  return {yp, std::max(F[1], F[1] + (yp - y[1]) * (d01 + a * (yp - y[0])))};
+}
+
 void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) {
   const Real nu = 1.0 / fp.reynolds;
   const Real w = *settings_.relaxation;
@@ -54,6 +62,7 @@ void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParam
         auto& om = omega_;
         auto& F = f_;
         Real fmax = 0.0, ymax = 0.0, fpeak = 0.0, udif = 0.0;
+        int mpeak = -1;
         bool past_peak = false;
         for (int m = 0; m < len; ++m) {
           const Index3 cm = interior_cell(b, p.side, c, m + 1);
@@ -67,10 +76,20 @@ void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParam
               fpeak = F[m];
               fmax = F[m];
               ymax = y[m];
+              mpeak = m;
             } else if (settings_.degani_schiff && F[m] < 0.9 * fpeak) {
               past_peak = true;  // Degani-Schiff: the first peak
             }
           }
+        }
+        // §8.2's F_max is the maximum of F(y), not of its cell values: the cells'
+        // maximum jumps by a cell as the peak moves, nu_t jumps with it, and the
+        // discrete equations then had several solutions (which one a run found
+        // depended on its path: turbulence/DESIGN.md).
+        if (mpeak > 0 && mpeak + 1 < len) {
+          const FunctionPeak peak = refined_peak(&y[mpeak - 1], &F[mpeak - 1]);
+          ymax = peak.y;
+          fmax = peak.f;
         }
         const Real fwake = fmax > 0.0 ? std::min(ymax * fmax, cwk * ymax * udif * udif / fmax) : 0.0;
         bool outer = false;

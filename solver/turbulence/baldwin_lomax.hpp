@@ -28,6 +28,14 @@
 
 namespace narwhal {
 
+// The maximum of the parabola through three samples (y ascending) of a function with
+// its largest sample in the middle: where F(y) peaks between cell centres (the vertex
+// then lies between the outer two). Equal samples keep the middle one.
+struct FunctionPeak {
+  Real y, f;
+};
+FunctionPeak refined_peak(const Real y[3], const Real F[3]);
+
 class BaldwinLomax final : public TurbulenceModel {
  public:
   BaldwinLomax(const TurbulenceSettings& s, const Grid& g) : settings_(with_model_defaults(s)) { (void)g; }

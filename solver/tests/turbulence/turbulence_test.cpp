@@ -9,6 +9,7 @@
 #include "app/driver.hpp"
 #include "mesh/ghost_sweep.hpp"
 #include "test_support.hpp"
+#include "turbulence/baldwin_lomax.hpp"
 #include "turbulence/launder_sharma.hpp"
 #include "turbulence/menter_sst.hpp"
 #include "turbulence/myong_kasagi.hpp"
@@ -395,6 +396,22 @@ TEST(TransportModel, LargestResidualNamesBlockCellAndVariable) {
       EXPECT_NE(where.find(m->variable_name(v) + " equation: |R|/V = "), std::string::npos) << where;
     }
   }
+}
+
+// The F_max of Baldwin-Lomax between cell centres: the vertex of a parabola is found
+// exactly from three unevenly spaced samples, and equal samples (no curvature) keep
+// the middle one.
+TEST(BaldwinLomaxPeak, RefinedPeakIsTheParabolasVertexOnUnevenSpacing) {
+  auto F = [](Real y) { return 3.0 - 2.0 * (y - 0.37) * (y - 0.37); };
+  const Real y[3] = {0.2, 0.35, 0.61};
+  const Real f[3] = {F(y[0]), F(y[1]), F(y[2])};
+  const FunctionPeak p = refined_peak(y, f);
+  EXPECT_NEAR(p.y, 0.37, 1e-14);
+  EXPECT_NEAR(p.f, 3.0, 1e-14);
+  const Real flat[3] = {2.0, 2.0, 2.0};
+  const FunctionPeak q = refined_peak(y, flat);
+  EXPECT_EQ(q.y, y[1]);
+  EXPECT_EQ(q.f, 2.0);
 }
 
 }  // namespace
