@@ -10,12 +10,17 @@ namespace narwhal {
 
 void ForceSteadiness::observe(const std::map<std::string, ForceCoefficients>& forces) {
   if (!enabled()) return;
+  // Once the window is full, the oldest sample's storage takes the newest: no
+  // allocation per iteration.
   std::vector<Real> sample;
-  sample.reserve(3 * forces.size());
+  if (static_cast<int>(samples_.size()) >= window_) {
+    sample = std::move(samples_.front());
+    samples_.pop_front();
+  }
+  sample.clear();
   for (const auto& [name, fc] : forces)
     for (int d = 0; d < 3; ++d) sample.push_back(fc.force[d]);
   samples_.push_back(std::move(sample));
-  while (static_cast<int>(samples_.size()) > window_) samples_.pop_front();
 }
 
 Real ForceSteadiness::span() const {

@@ -329,6 +329,20 @@ TEST(Robustness, StalledRunEndsNamingTheSlowestEquationAndItsWorstCell) {
   EXPECT_EQ(run_case(ok, o).status, RunStatus::Converged);
 }
 
+// Runs `c` as `full` does but stopped after `stop_at` iterations (in dir/split), then
+// resumed from the restart that stop wrote, without a limit of its own.
+RunSummary stop_and_resume(const CaseConfig& c, const RunOptions& full, const fs::path& dir, int stop_at) {
+  RunOptions first = full;
+  first.out_dir = (dir / "split").string();
+  first.max_iterations = stop_at;
+  run_case(c, first);
+  fs::copy_file(dir / "split" / "restart.h5", dir / "restart_first.h5");
+  RunOptions second = first;
+  second.max_iterations.reset();
+  second.restart = (dir / "restart_first.h5").string();
+  return run_case(c, second);
+}
+
 // A run resumed from a restart written on the plateau stalls at the same iteration
 // as the uninterrupted one: the detector's anchor travels with the restart.
 TEST(Restart, StallDetectorStateContinuesFromTheRestart) {
@@ -339,15 +353,7 @@ TEST(Restart, StallDetectorStateContinuesFromTheRestart) {
   full.out_dir = (dir / "full").string();
   const RunSummary whole = run_case(c, full);
   ASSERT_EQ(whole.status, RunStatus::Stalled);
-  RunOptions first = full;
-  first.out_dir = (dir / "split").string();
-  first.max_iterations = whole.iterations - 30;
-  run_case(c, first);
-  fs::copy_file(dir / "split" / "restart.h5", dir / "restart_first.h5");
-  RunOptions second = first;
-  second.max_iterations.reset();
-  second.restart = (dir / "restart_first.h5").string();
-  const RunSummary resumed = run_case(c, second);
+  const RunSummary resumed = stop_and_resume(c, full, dir, whole.iterations - 30);
   EXPECT_EQ(resumed.status, RunStatus::Stalled);
   EXPECT_EQ(resumed.iterations, whole.iterations);
   EXPECT_EQ(resumed.message, whole.message);
@@ -373,15 +379,8 @@ TEST(Restart, ForceSteadinessWindowContinuesFromTheRestart) {
   ASSERT_EQ(whole.status, RunStatus::Converged);
   EXPECT_GT(whole.iterations, early.iterations + c.solver.force_window);  // the forces decided
   EXPECT_LE(whole.force_span, 1e-9);
-  RunOptions first = full;
-  first.out_dir = (dir / "split").string();
-  first.max_iterations = whole.iterations - 3;  // three samples short of the uninterrupted stop
-  run_case(c, first);
-  fs::copy_file(dir / "split" / "restart.h5", dir / "restart_first.h5");
-  RunOptions second = first;
-  second.max_iterations.reset();
-  second.restart = (dir / "restart_first.h5").string();
-  const RunSummary resumed = run_case(c, second);
+  // Three samples short of the uninterrupted stop.
+  const RunSummary resumed = stop_and_resume(c, full, dir, whole.iterations - 3);
   EXPECT_EQ(resumed.status, RunStatus::Converged);
   EXPECT_EQ(resumed.iterations, whole.iterations);
   EXPECT_EQ(resumed.force_span, whole.force_span);
