@@ -185,6 +185,20 @@ CaseConfig small_plate() {
   return parse_case(t, "small_plate.toml", ".");
 }
 
+// Runs `c` as `full` does but stopped after `stop_at` iterations (in dir/split), then
+// resumed from the restart that stop wrote, up to `full`'s own iteration limit.
+RunSummary stop_and_resume(const CaseConfig& c, const RunOptions& full, const fs::path& dir, int stop_at) {
+  RunOptions first = full;
+  first.out_dir = (dir / "split").string();
+  first.max_iterations = stop_at;
+  run_case(c, first);
+  fs::copy_file(dir / "split" / "restart.h5", dir / "restart_first.h5");
+  RunOptions second = first;
+  second.max_iterations = full.max_iterations;
+  second.restart = (dir / "restart_first.h5").string();
+  return run_case(c, second);
+}
+
 // Runs `total` iterations uninterrupted and `first` + the rest from restart.h5; the
 // two histories must agree to the last digit.
 void expect_restart_reproduces_history(const CaseConfig& c, const std::string& name, int total, int first_part) {
@@ -194,15 +208,7 @@ void expect_restart_reproduces_history(const CaseConfig& c, const std::string& n
   full.out_dir = (dir / "full").string();
   full.max_iterations = total;
   run_case(c, full);
-  RunOptions first = full;
-  first.out_dir = (dir / "split").string();
-  first.max_iterations = first_part;
-  run_case(c, first);
-  fs::copy_file(dir / "split" / "restart.h5", dir / "restart_first.h5");
-  RunOptions second = first;
-  second.max_iterations = total;
-  second.restart = (dir / "restart_first.h5").string();
-  run_case(c, second);
+  stop_and_resume(c, full, dir, first_part);
   const auto a = test::history_rows((dir / "full" / "history.csv").string());
   const auto b = test::history_rows((dir / "split" / "history.csv").string());
   ASSERT_EQ(a.size(), static_cast<std::size_t>(total)) << name;
@@ -327,20 +333,6 @@ TEST(Robustness, StalledRunEndsNamingTheSlowestEquationAndItsWorstCell) {
                                   {"grid.coarsen=3", "solver.stall_window=100"});
   o.out_dir = (dir / "default").string();
   EXPECT_EQ(run_case(ok, o).status, RunStatus::Converged);
-}
-
-// Runs `c` as `full` does but stopped after `stop_at` iterations (in dir/split), then
-// resumed from the restart that stop wrote, without a limit of its own.
-RunSummary stop_and_resume(const CaseConfig& c, const RunOptions& full, const fs::path& dir, int stop_at) {
-  RunOptions first = full;
-  first.out_dir = (dir / "split").string();
-  first.max_iterations = stop_at;
-  run_case(c, first);
-  fs::copy_file(dir / "split" / "restart.h5", dir / "restart_first.h5");
-  RunOptions second = first;
-  second.max_iterations.reset();
-  second.restart = (dir / "restart_first.h5").string();
-  return run_case(c, second);
 }
 
 // A run resumed from a restart written on the plateau stalls at the same iteration
