@@ -80,6 +80,7 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
   j["equation_drops"] = drops;  // each against the largest residual it has had
   j["turbulence_drop"] = s.turbulence_drop;
   if (s.force_span >= 0.0 && std::isfinite(s.force_span)) j["force_span"] = s.force_span;
+  if (s.turbulence_start_ended > 0) j["turbulence_start_ended"] = s.turbulence_start_ended;
   j["cost"] = {{"seconds_per_cycle", s.seconds_per_cycle}, {"peak_bytes_per_cell", s.peak_bytes_per_cell}};
   j["final_residual"] = {{"p", last.l2[0]}, {"u", last.l2[1]}, {"v", last.l2[2]}, {"w", last.l2[3]}};
   j["settings"] = {{"reynolds", c.flow.reynolds},
@@ -99,6 +100,7 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
                    {"turbulence_coupling", c.turbulence.coupling},
                    {"turbulence_iterations", c.turbulence.iterations.value_or(0)},
                    {"turbulence_relaxation", c.turbulence.relaxation.value_or(0.0)},
+                   {"turbulence_start_force_span", c.turbulence.start.force_span.value_or(0.0)},
                    {"stall_window", c.solver.stall_window},
                    {"stall_factor", c.solver.stall_factor},
                    {"force_tolerance", c.solver.force_tolerance},
@@ -268,7 +270,11 @@ class SteadyRun {
       single_ = std::make_unique<NewtonSolver>(g_, field_, fp_, c_.solver.newton);
     }
     if (opt_.restart) solver().set_reference_norm(info_.reference_norm);
-    coupling_ = std::make_unique<TurbulenceCoupling>(c_.turbulence, g_, field_, fp_, mg_.get(), opt_.restart.has_value());
+    TurbulenceStartState restored;
+    if (opt_.restart)
+      restored = {info_.turbulence_starting, info_.turbulence_start_ended, info_.start_window, info_.start_components};
+    coupling_ = std::make_unique<TurbulenceCoupling>(c_.turbulence, g_, field_, fp_, mg_.get(),
+                                                     opt_.restart ? &restored : nullptr);
     turb_ = coupling_->model();
     fill_ghosts(g_, field_, fp_);
   }
@@ -310,6 +316,8 @@ class SteadyRun {
         step();
         measure_forces();
         force_steadiness_.observe(forces_);
+        const std::string turned = coupling_->observe_forces(it, forces_);
+        if (!turned.empty() && root_ && !opt_.progress) fmt::print("narwhal: {}\n", turned);
         if (flow_rate_) flow_rate_->update(g_, field_, faces_);
         if (history_) history_->write(it, elapsed(), monitors_.last, forces_, monitors_.turb_res);
         s_.iterations = it;
@@ -334,6 +342,7 @@ class SteadyRun {
                                solver().describe_largest_residual());
     if (opt_.progress && root_) fmt::print("\n");
     s_.wall_seconds = comm_.max(elapsed());
+    s_.turbulence_start_ended = coupling_->start_state().ended_at;
     measure_cost();
   }
 
@@ -425,6 +434,11 @@ class SteadyRun {
     r.stall_anchor_iteration = stall_.anchor_iteration();
     r.force_window = force_steadiness_.state();
     r.force_components = 3 * static_cast<int>(forces_.size());
+    const TurbulenceStartState start = coupling_->start_state();
+    r.turbulence_starting = start.starting;
+    r.turbulence_start_ended = start.ended_at;
+    r.start_window = start.window;
+    r.start_components = start.components;
     FlowField& out = assemble();
     if (root_) write_restart(restart_path_, pieces_ ? whole_ : g_, out, r, c_.text);
     last_restart_ = it;

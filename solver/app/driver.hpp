@@ -35,6 +35,9 @@ struct RunSummary {
   // The wall forces' span over the last solver.force_window iterations, relative to
   // the largest force (app/force_steadiness.hpp); < 0 when the run does not test it.
   Real force_span = -1.0;
+  // The cycle that ended the turbulence model's start (TurbulenceStart); 0: no start
+  // ended in this run's history.
+  int turbulence_start_ended = 0;
   std::string message;
   // Cost of this process's run: wall seconds per iteration (or cycle) it ran, and its
   // peak resident memory (all ranks together) per cell of the grid.

@@ -32,6 +32,8 @@ class ForceSteadiness {
   Real span() const;
 
   int window() const { return window_; }
+  // Values per sample (3 per wall group); 0 before the first.
+  int components() const { return samples_.empty() ? 0 : static_cast<int>(samples_.back().size()); }
   Real tolerance() const { return tolerance_; }
 
   // The window's samples, flattened oldest first (restarts carry them, so that a

@@ -278,6 +278,21 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                                  "whether Baldwin-Lomax takes F_max at the first peak (Degani-Schiff)");
   if (r.has("turbulence.relaxation"))
     t.relaxation = r.number("turbulence.relaxation", "the under-relaxation of the model's update", Range{0.0, 1.0, true, false});
+  auto& st = t.start;
+  st.coupling = r.string_or("turbulence.start.coupling", "", "when multigrid updates the model during the start: cycle or smoothing");
+  if (!st.coupling.empty() && st.coupling != "cycle" && st.coupling != "smoothing")
+    r.error("turbulence.start.coupling", "expected \"cycle\" or \"smoothing\", got '" + st.coupling + "'");
+  if (r.has("turbulence.start.relaxation"))
+    st.relaxation = r.number("turbulence.start.relaxation", "the under-relaxation of the model's update during the start",
+                             Range{0.0, 1.0, true, false});
+  if (r.has("turbulence.start.iterations"))
+    st.iterations = r.integer("turbulence.start.iterations", "model iterations per update during the start", kSmoothCount);
+  if (r.has("turbulence.start.force_span"))
+    st.force_span = r.number("turbulence.start.force_span",
+                             "the wall forces' relative span over start.window cycles that ends the start (0: no start)",
+                             Range::between(0, 1));
+  st.window = r.integer_or("turbulence.start.window", st.window, "cycles over which the start's force span is taken",
+                           Range::between(1, 1e6));
   t = with_model_defaults(t);  // what was left open, from the model
   t.max_growth = r.number_or("turbulence.max_growth", t.max_growth,
                              "the largest factor by which k, epsilon or omega may grow in one step", Range::above(1));

@@ -261,6 +261,12 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
       write_scalar_attr(path, file, "force_components", H5T_NATIVE_INT, info.force_components);
       write_dataset(path, file, "force_window", {info.force_window.size()}, info.force_window.data());
     }
+    write_scalar_attr(path, file, "turbulence_starting", H5T_NATIVE_INT, info.turbulence_starting ? 1 : 0);
+    write_scalar_attr(path, file, "turbulence_start_ended", H5T_NATIVE_INT, info.turbulence_start_ended);
+    if (!info.start_window.empty()) {
+      write_scalar_attr(path, file, "start_components", H5T_NATIVE_INT, info.start_components);
+      write_dataset(path, file, "start_window", {info.start_window.size()}, info.start_window.data());
+    }
     const std::array<double, 14> monitors{info.residual[0], info.residual[1], info.residual[2], info.residual[3],
                                           info.residual_total, info.cfl, info.residual_drop,
                                           info.turbulence_residual[0], info.turbulence_residual[1],
@@ -350,6 +356,15 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
     info.force_components = read_scalar_attr<int>(path, file, "force_components", H5T_NATIVE_INT);
     const hsize_t n = dataset_length(path, file, "force_window");
     read_dataset(path, file, "force_window", {n}, info.force_window);
+  }
+  if (H5Aexists(file, "turbulence_starting") > 0) {  // older restarts: past any start
+    info.turbulence_starting = read_scalar_attr<int>(path, file, "turbulence_starting", H5T_NATIVE_INT) != 0;
+    info.turbulence_start_ended = read_scalar_attr<int>(path, file, "turbulence_start_ended", H5T_NATIVE_INT);
+  }
+  if (H5Aexists(file, "start_components") > 0) {
+    info.start_components = read_scalar_attr<int>(path, file, "start_components", H5T_NATIVE_INT);
+    const hsize_t n = dataset_length(path, file, "start_window");
+    read_dataset(path, file, "start_window", {n}, info.start_window);
   }
   info.turbulence_reference[0] = read_scalar_attr<double>(path, file, "turbulence_reference_0", H5T_NATIVE_DOUBLE);
   info.turbulence_reference[1] = read_scalar_attr<double>(path, file, "turbulence_reference_1", H5T_NATIVE_DOUBLE);

@@ -43,6 +43,13 @@ struct RestartInfo {
   // and the components per sample; empty: none (also for older restarts).
   std::vector<Real> force_window{};
   int force_components = 0;
+  // The turbulence model's start (app/turbulence_coupling.hpp): whether the state is
+  // still in it, the cycle that ended it (0: none), and its force window as above.
+  // Older restarts: not starting.
+  bool turbulence_starting = false;
+  int turbulence_start_ended = 0;
+  std::vector<Real> start_window{};
+  int start_components = 0;
 };
 
 // Writes atomically (temporary file + rename) so a crash never leaves a torn restart;

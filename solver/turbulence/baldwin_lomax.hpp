@@ -45,6 +45,10 @@ class BaldwinLomax final : public TurbulenceModel {
   std::string cgns_name(int) const override { return ""; }
   void initialize(const Grid&, FlowField&, const FlowParams&, bool) override {}
   TurbulenceNorms advance(Grid& g, FlowField& f, const FlowParams& fp, Real cfl) override;
+  void set_update(Real relaxation, int iterations) override {
+    settings_.relaxation = relaxation;
+    settings_.iterations = iterations;
+  }
   void update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) override;
   Real eddy_viscosity(const FlowField& f, const FlowParams& fp, int ib, const Index3& c) const override {
     return f.nu[ib](c) - 1.0 / fp.reynolds;

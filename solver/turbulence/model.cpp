@@ -10,15 +10,29 @@
 
 namespace narwhal {
 
+// The low-Re k-epsilon models' scheme: a start relaxed and once per cycle, then the
+// model inside the smoothing with four full Newton steps per update (the coupled
+// tail converges 4-6 times faster; from a uniform start this scheme diverges or
+// finds the laminar plate solution). The start ends when the wall forces have
+// settled to kLowReStartSpan over 25 cycles (turbulence/DESIGN.md, "the start").
+namespace {
+constexpr Real kLowReStartSpan = 1e-2;
+TurbulenceModelInfo low_re_k_epsilon(const std::string& name, const std::string& summary) {
+  return {name, summary, "points", "smoothing", 1.0, 4, {"cycle", 0.7, 1, kLowReStartSpan, 25}};
+}
+}  // namespace
+
 const std::vector<TurbulenceModelInfo>& turbulence_models() {
   static const std::vector<TurbulenceModelInfo> models = {
       {"laminar", "no turbulence model"},
       {"baldwin-lomax", "Baldwin-Lomax algebraic model (turbulence/baldwin_lomax.hpp)"},
       {"sa", "Spalart-Allmaras one-equation model, SA-neg as on NASA TMR (turbulence/spalart_allmaras.hpp)", "lines",
        "smoothing"},
-      {"launder-sharma", "Launder-Sharma low-Re k-epsilon (turbulence/launder_sharma.hpp)"},
-      {"myong-kasagi", "Myong-Kasagi low-Re k-epsilon (turbulence/myong_kasagi.hpp)"},
-      {"nonlinear-k-epsilon", "the paper's low-Re non-linear (quadratic stress) k-epsilon on Myong-Kasagi (turbulence/nonlinear_k_epsilon.hpp)"},
+      low_re_k_epsilon("launder-sharma", "Launder-Sharma low-Re k-epsilon (turbulence/launder_sharma.hpp)"),
+      low_re_k_epsilon("myong-kasagi", "Myong-Kasagi low-Re k-epsilon (turbulence/myong_kasagi.hpp)"),
+      low_re_k_epsilon("nonlinear-k-epsilon",
+                       "the paper's low-Re non-linear (quadratic stress) k-epsilon on Myong-Kasagi "
+                       "(turbulence/nonlinear_k_epsilon.hpp)"),
       {"sst", "Menter SST k-omega, the 2003 version as on NASA TMR (turbulence/menter_sst.hpp)", "lines", "smoothing",
        1.0, 2},
   };
@@ -39,6 +53,10 @@ TurbulenceSettings with_model_defaults(TurbulenceSettings s) {
   if (s.coupling.empty()) s.coupling = info.coupling;
   if (!s.relaxation) s.relaxation = info.relaxation;
   if (!s.iterations) s.iterations = info.iterations;
+  if (s.start.coupling.empty()) s.start.coupling = info.start.coupling;
+  if (!s.start.relaxation) s.start.relaxation = info.start.relaxation;
+  if (!s.start.iterations) s.start.iterations = info.start.iterations;
+  if (!s.start.force_span) s.start.force_span = info.start.force_span;
   return s;
 }
 

@@ -28,6 +28,24 @@
 
 namespace narwhal {
 
+// The start of a run (turbulence/DESIGN.md, "the start"): a robust scheme from the
+// uniform initial state until the wall forces have settled, then the settings' own
+// scheme. The low-Re k-epsilon models' fast scheme (model in the smoothing, full
+// Newton steps) diverges or finds the laminar plate solution from a uniform start;
+// the robust one (relaxed, once per cycle) finds the turbulent one but converges its
+// tail slowly. The forces settle when the boundary layers have formed, whatever the
+// case; the switch waits for that, not for a cycle count.
+struct TurbulenceStart {
+  std::string coupling;            // cycle or smoothing; empty: the model's default
+  std::optional<Real> relaxation;  // unset: the model's default
+  std::optional<int> iterations;   // unset: the model's default
+  // The start ends when, over the last `window` cycles, no wall force has moved by
+  // more than this times the largest group's force; 0: no start (unset: the model's
+  // default).
+  std::optional<Real> force_span;
+  int window = 25;
+};
+
 struct TurbulenceSettings {
   std::string model = "laminar";
   Real freestream_nut_ratio = 3.0;  // SA: nu_tilde_inf / nu; two-equation models: nu_t_inf / nu
@@ -58,6 +76,7 @@ struct TurbulenceSettings {
   // incidence with off-body vortices) instead of the line's global maximum.
   bool degani_schiff = false;
   NonlinearCoefficients nonlinear;  // quadratic-stress coefficients of the non-linear k-epsilon (§8.5)
+  TurbulenceStart start;            // the start's scheme and when it ends
 };
 
 struct TurbulenceNorms {
@@ -75,6 +94,9 @@ class TurbulenceModel {
   virtual void initialize(const Grid& g, FlowField& f, const FlowParams& fp, bool keep) = 0;
   // One loosely coupled update at the pseudo-time CFL of the mean flow.
   virtual TurbulenceNorms advance(Grid& g, FlowField& f, const FlowParams& fp, Real cfl) = 0;
+  // The update's under-relaxation and iterations per call from now on (the start's
+  // scheme and the converging one, TurbulenceStart).
+  virtual void set_update(Real relaxation, int iterations) = 0;
   // nu = 1/Re + nu_t from the model's variables (flow ghosts filled).
   virtual void update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) = 0;
   // Cell eddy viscosity nu_t (nondimensional) for output.
@@ -90,9 +112,9 @@ class TurbulenceModel {
 struct TurbulenceModelInfo {
   std::string name, summary;
   // Defaults of TurbulenceSettings::smoother and ::coupling. The low-Re k-epsilon
-  // models keep points and cycles: their plate solutions depend on the iteration's
-  // path (where transition settles), and the faster schemes reach another one
-  // (turbulence/DESIGN.md).
+  // models keep points; they couple inside the smoothing after their start (their
+  // plate solutions depend on the iteration's path, and from a uniform start the
+  // fast scheme reaches the laminar one: turbulence/DESIGN.md).
   std::string smoother = "points", coupling = "cycle";
   // Default of TurbulenceSettings::relaxation: 0.7, with which no plate or duct run
   // oscillates; SST takes full steps (TMR plate levels 35 to 273: 208, 199, 197 and
@@ -105,14 +127,16 @@ struct TurbulenceModelInfo {
   // equal on the 137 level, 1.13x (2) and 1.30x (3) on the 273 (medians of three).
   // SA's cycles grow with more (137 level: 28, 35, 41).
   int iterations = 1;
+  // Defaults of TurbulenceSettings::start: none (force_span 0) but for the low-Re
+  // k-epsilon models (model.cpp).
+  TurbulenceStart start{"cycle", 0.7, 1, 0.0, 25};
 };
 
 // The entry of that model name (nullptr when unknown).
 const TurbulenceModelInfo* find_turbulence_model(const std::string& name);
 
 // The settings with every scheme choice left open (smoother, coupling, relaxation,
-// iterations)
-// taken from the model's TurbulenceModelInfo; the one place these defaults resolve
+// iterations, and those of the start) taken from the model's TurbulenceModelInfo; the one place these defaults resolve
 // (the case reader and the models' constructors both call it).
 TurbulenceSettings with_model_defaults(TurbulenceSettings s);
 

@@ -45,6 +45,10 @@ class TransportModel : public TurbulenceModel {
 
   void initialize(const Grid& g, FlowField& f, const FlowParams& fp, bool keep) override;
   TurbulenceNorms advance(Grid& g, FlowField& f, const FlowParams& fp, Real cfl) override;
+  void set_update(Real relaxation, int iterations) override {
+    settings_.relaxation = relaxation;
+    settings_.iterations = iterations;
+  }
   void update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) override;
   Real eddy_viscosity(const FlowField& f, const FlowParams& fp, int ib, const Index3& c) const override;
   std::string describe_largest_residual(const Grid& g, int m, const Communicator& comm) const override;

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <fmt/format.h>
+
 #include "app/driver.hpp"
 #include "io/restart.hpp"
 #include "mesh/plot3d.hpp"
@@ -75,7 +77,6 @@ TEST(CaseErrors, TurbulenceSchemeDefaultsByModelAndBadValuesAreNamed) {
   EXPECT_EQ(c.turbulence.coupling, "smoothing");
   const CaseConfig mk = parse_case(sa, "sa.toml", ".", {"turbulence.model=\"myong-kasagi\""});
   EXPECT_EQ(mk.turbulence.smoother, "points");
-  EXPECT_EQ(mk.turbulence.coupling, "cycle");
   const CaseConfig forced = parse_case(sa, "sa.toml", ".", {"turbulence.smoother=\"points\""});
   EXPECT_EQ(forced.turbulence.smoother, "points");
   EXPECT_EQ(c.turbulence.iterations, 1);
@@ -85,6 +86,22 @@ TEST(CaseErrors, TurbulenceSchemeDefaultsByModelAndBadValuesAreNamed) {
   EXPECT_EQ(sst.turbulence.relaxation, 1.0);
   EXPECT_EQ(parse_case(sa, "sa.toml", ".", {"turbulence.model=\"sst\"", "turbulence.iterations=1"}).turbulence.iterations,
             1);
+  // The low-Re k-epsilon models start with the robust scheme; the others have no start.
+  EXPECT_EQ(*c.turbulence.start.force_span, 0.0);
+  EXPECT_EQ(*mk.turbulence.start.force_span, 1e-2);
+  EXPECT_EQ(mk.turbulence.start.coupling, "cycle");
+  EXPECT_EQ(*mk.turbulence.start.relaxation, 0.7);
+  EXPECT_EQ(mk.turbulence.coupling, "smoothing");
+  EXPECT_EQ(*mk.turbulence.relaxation, 1.0);
+  EXPECT_EQ(*mk.turbulence.iterations, 4);
+  try {
+    parse_case(sa, "sa.toml", ".", {"turbulence.start.coupling=\"often\""});
+    ADD_FAILURE() << "an unknown start coupling was accepted";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("turbulence.start.coupling"), std::string::npos) << m;
+    EXPECT_NE(m.find("often"), std::string::npos) << m;
+  }
   try {
     parse_case(sa, "sa.toml", ".", {"turbulence.coupling=\"iteration\""});
     ADD_FAILURE() << "an unknown coupling was accepted";
@@ -230,6 +247,46 @@ TEST(Restart, TurbulentMultigridRunContinuesBitForBit) {
     expect_restart_reproduces_history(c,
                                       std::string("narwhal_restart_turb_") + model, 30, 15);
   }
+}
+
+// A small non-linear k-epsilon duct whose start (window 5, span 0.1) ends at cycle 12.
+CaseConfig small_duct_with_start() {
+  return load_case(test::source_path("validation/cases/square_duct_turbulent/duct_nl.toml"),
+                   {"grid.y=[-1.0, 1.0, 16]", "grid.z=[-1.0, 1.0, 16]", "grid.first_spacing_y=0.02",
+                    "grid.first_spacing_z=0.02", "turbulence.start.force_span=0.1", "turbulence.start.window=5"});
+}
+
+// The start ends when the forces have settled, once, and is reported; a restart
+// written before the switch (its force window part-filled) turns at the same cycle,
+// one written after it does not start again.
+TEST(TurbulenceStart, EndsOnceWhenTheForcesSettleAndRestartsTurnWhereTheRunDid) {
+  const CaseConfig c = small_duct_with_start();
+  const fs::path dir = test::fresh_temp_dir("narwhal_turbulence_start_test");
+  fs::remove_all(dir);
+  RunOptions full;
+  full.out_dir = (dir / "full").string();
+  full.max_iterations = 30;
+  const RunSummary whole = run_case(c, full);
+  ASSERT_GT(whole.turbulence_start_ended, c.turbulence.start.window);
+  ASSERT_LT(whole.turbulence_start_ended, 20);
+  EXPECT_NE(slurp((dir / "full" / "run.json").string())
+                .find(fmt::format("\"turbulence_start_ended\": {}", whole.turbulence_start_ended)),
+            std::string::npos);
+  const auto a = test::history_rows((dir / "full" / "history.csv").string());
+  for (const int split : {whole.turbulence_start_ended - 2, whole.turbulence_start_ended + 3}) {
+    const fs::path at = dir / fmt::format("resumed_{}", split);
+    fs::create_directories(at);
+    const RunSummary resumed = stop_and_resume(c, full, at, split);
+    EXPECT_EQ(resumed.turbulence_start_ended, whole.turbulence_start_ended) << "split at " << split;
+    const auto b = test::history_rows((at / "split" / "history.csv").string());
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "split at " << split << ", iteration " << i + 1;
+  }
+  // Without a start, none ends.
+  CaseConfig no_start = c;
+  no_start.turbulence.start.force_span = 0.0;
+  full.out_dir = (dir / "no_start").string();
+  EXPECT_EQ(run_case(no_start, full).turbulence_start_ended, 0);
 }
 
 // The non-linear k-epsilon duct at constant flow rate: the adjusted body force must
