@@ -107,9 +107,15 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
                    {"force_window", c.solver.force_window}};
   j["body_force"] = {body_force[0], body_force[1], body_force[2]};
   nlohmann::ordered_json f = nlohmann::ordered_json::object();
-  for (const auto& [name, fc] : forces)
-    f[name] = {{"cfx", fc.force[0]}, {"cfy", fc.force[1]}, {"cfz", fc.force[2]},
-               {"cmx", fc.moment[0]}, {"cmy", fc.moment[1]}, {"cmz", fc.moment[2]}};
+  auto coefficients = [](const Vec3& force, const Vec3& moment) {
+    return nlohmann::ordered_json{{"cfx", force[0]},  {"cfy", force[1]},  {"cfz", force[2]},
+                                  {"cmx", moment[0]}, {"cmy", moment[1]}, {"cmz", moment[2]}};
+  };
+  for (const auto& [name, fc] : forces) {
+    f[name] = coefficients(fc.force, fc.moment);
+    f[name]["pressure"] = coefficients(fc.pressure_force, fc.pressure_moment);
+    f[name]["friction"] = coefficients(fc.friction_force(), fc.friction_moment());
+  }
   j["forces"] = f;
   j["provenance"] = {{"version", kVersion}, {"git_sha", kGitSha}, {"compiler", kCompiler}, {"flags", kBuildFlags}};
   write_file_atomically(path, j.dump(2) + "\n");

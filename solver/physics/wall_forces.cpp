@@ -50,12 +50,18 @@ ForceCoefficients integrate_forces(std::span<const WallFace> faces, Real area_re
   ForceCoefficients c;
   for (const auto& w : faces) {
     // Force of the fluid on the body: pressure pushes against n (n points into the fluid).
-    const Vec3 dF = 0.5 * w.area * (-w.cp * w.n + w.cf);  // F = (-p n + tau) A in units of rho U^2 L^2
+    const Vec3 dP = -0.5 * w.area * w.cp * w.n;  // F = (-p n + tau) A in units of rho U^2 L^2
+    const Vec3 dF = dP + 0.5 * w.area * w.cf;
     c.force += dF;
     c.moment += (w.x - centre).cross(dF);
+    c.pressure_force += dP;
+    c.pressure_moment += (w.x - centre).cross(dP);
   }
-  c.force *= 2.0 / area_ref;
-  c.moment *= 2.0 / (area_ref * length_ref);
+  const Real to_force = 2.0 / area_ref, to_moment = 2.0 / (area_ref * length_ref);
+  c.force *= to_force;
+  c.pressure_force *= to_force;
+  c.moment *= to_moment;
+  c.pressure_moment *= to_moment;
   return c;
 }
 
@@ -65,7 +71,7 @@ std::map<std::string, ForceCoefficients> integrate_forces(const Grid& g,
   // Per (group, block) partial forces, added in block order on every rank: the same
   // sums for any distribution of the blocks. The face lists hold the owned blocks'
   // faces in block order; walk them alongside the patches.
-  constexpr int width = 6;
+  constexpr int width = 12;  // force, moment, pressure force, pressure moment
   const std::size_t groups = faces.size();
   std::vector<Real> partial(g.blocks.size() * groups * width, 0.0);
   std::size_t gi = 0;
@@ -87,6 +93,8 @@ std::map<std::string, ForceCoefficients> integrate_forces(const Grid& g,
       for (int m = 0; m < 3; ++m) {
         s[m] = c.force[m];
         s[3 + m] = c.moment[m];
+        s[6 + m] = c.pressure_force[m];
+        s[9 + m] = c.pressure_moment[m];
       }
     }
     ++gi;
@@ -97,9 +105,12 @@ std::map<std::string, ForceCoefficients> integrate_forces(const Grid& g,
   gi = 0;
   for (const auto& [name, list] : faces) {
     ForceCoefficients& c = out[name];
+    const Real* t = &total[gi * width];
     for (int m = 0; m < 3; ++m) {
-      c.force[m] = total[gi * width + static_cast<std::size_t>(m)];
-      c.moment[m] = total[gi * width + 3 + static_cast<std::size_t>(m)];
+      c.force[m] = t[m];
+      c.moment[m] = t[3 + m];
+      c.pressure_force[m] = t[6 + m];
+      c.pressure_moment[m] = t[9 + m];
     }
     ++gi;
   }

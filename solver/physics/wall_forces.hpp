@@ -19,6 +19,12 @@ struct WallFace {
 struct ForceCoefficients {
   Vec3 force = Vec3::Zero();   // C_F = 2 F / A_ref
   Vec3 moment = Vec3::Zero();  // C_M = 2 M / (A_ref L_ref)
+  // The pressure part of each (-p n); the friction part is the rest (tau_w), so that
+  // the parts add up to the totals exactly as they were summed.
+  Vec3 pressure_force = Vec3::Zero();
+  Vec3 pressure_moment = Vec3::Zero();
+  Vec3 friction_force() const { return force - pressure_force; }
+  Vec3 friction_moment() const { return moment - pressure_moment; }
 };
 
 // Wall faces grouped by patch label (ghosts must be filled).
