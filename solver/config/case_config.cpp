@@ -39,7 +39,7 @@ BcType parse_bc_type(const ConfigReader& r, const std::string& key) {
 }
 
 void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g) {
-  g.type = r.string("grid.type", "one of flat_plate, box, perturbed_box, plot3d");
+  g.type = r.string("grid.type", "one of flat_plate, box, perturbed_box, body_of_revolution, plot3d");
   if (g.type == "flat_plate") {
     auto& p = g.plate;
     p.x_runup = r.number_or("grid.runup", p.x_runup, "the run-up length ahead of the plate", Range::positive());
@@ -92,6 +92,33 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
       else
         g.box_nodes[d] = geometric_nodes(spec[0], spec[1], n, ds);
     }
+  } else if (g.type == "body_of_revolution") {
+    auto& b = g.body;
+    const std::string body = r.string("grid.body", "the body: sphere or spheroid");
+    const Real length = r.number_or("grid.length", 1.0, "the body length (sphere: its diameter)", Range::positive());
+    if (body == "sphere") {
+      b.profile = sphere_profile(length);
+    } else if (body == "spheroid") {
+      b.profile = spheroid_profile(length, r.number("grid.ratio", "the spheroid's length-to-diameter ratio",
+                                                    Range::at_least(1.0)));
+    } else {
+      r.error("grid.body", "expected \"sphere\" or \"spheroid\", got '" + body + "'");
+    }
+    b.cells_along = r.integer_or("grid.cells_along", b.cells_along, "cells along a meridian between the pole squares",
+                                 kCellCount);
+    if (b.cells_along % 2 != 0 || b.cells_along < 2)
+      r.error("grid.cells_along", fmt::format("expected an even count >= 2, got {}", b.cells_along));
+    b.cells_around = r.integer_or("grid.cells_around", b.cells_around, "cells per 90-degree sector of azimuth",
+                                  kCellCount);
+    b.cells_normal = r.integer_or("grid.cells_normal", b.cells_normal, "cells from the body to the far field",
+                                  kCellCount);
+    b.far_field = r.number_or("grid.far_field", b.far_field, "the far-field distance in body lengths",
+                              Range::at_least(1.0));
+    b.first_spacing = r.number_or("grid.first_spacing", b.first_spacing, "the first wall-normal spacing",
+                                  Range{0.0, b.far_field * length / b.cells_normal, true, false});
+    b.pole_spacing = r.number_or("grid.pole_spacing", 0.0,
+                                 "the meridional spacing at nose and tail (0: a quarter of the mean)",
+                                 Range::between(0.0, length / b.cells_along));
   } else if (g.type == "perturbed_box") {
     g.perturbed_cells = r.integer("grid.cells", "cells per direction of the unit box", Range::between(1, 512));
     // Beyond about a quarter of the box the perturbed cells fold over.
@@ -130,7 +157,7 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
       g.plot3d_patches.push_back(p);
     }
   } else {
-    r.error("grid.type", "unknown grid type '" + g.type + "'; valid: flat_plate, box, perturbed_box, plot3d");
+    r.error("grid.type", "unknown grid type '" + g.type + "'; valid: flat_plate, box, perturbed_box, body_of_revolution, plot3d");
   }
   if (r.has("grid.split")) {
     const Vec3 s = r.vec3("grid.split", "[parts_i, parts_j, parts_k]", Range::between(1, 64));
@@ -330,6 +357,8 @@ Grid build_grid_from(const CaseConfig& c, int balance_ranks) {
     g = make_flat_plate(gc.plate);
   } else if (gc.type == "box") {
     g.blocks.push_back(make_box("box", gc.box_nodes[0], gc.box_nodes[1], gc.box_nodes[2]));
+  } else if (gc.type == "body_of_revolution") {
+    g = make_body_of_revolution(gc.body);
   } else if (gc.type == "perturbed_box") {
     g.blocks.push_back(make_perturbed_box("box", gc.perturbed_cells, gc.perturbed_amplitude));
   } else if (gc.type == "plot3d") {

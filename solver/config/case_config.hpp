@@ -8,6 +8,7 @@
 
 #include "implicit/newton.hpp"
 #include "mesh/block.hpp"
+#include "mesh/body_of_revolution.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/setup.hpp"
 #include "multigrid/fas.hpp"
@@ -27,8 +28,9 @@ struct Plot3dPatch {
 };
 
 struct GridConfig {
-  std::string type;  // flat_plate | box | perturbed_box | plot3d
+  std::string type;  // flat_plate | box | perturbed_box | body_of_revolution | plot3d
   FlatPlateSpec plate;
+  BodyGridSpec body;
   std::array<std::vector<Real>, 3> box_nodes;  // box: node coordinates per direction
   int perturbed_cells = 8;
   Real perturbed_amplitude = 0.04;

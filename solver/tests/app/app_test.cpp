@@ -112,6 +112,29 @@ TEST(CaseErrors, TurbulenceSchemeDefaultsByModelAndBadValuesAreNamed) {
   }
 }
 
+TEST(CaseErrors, UnknownBodyAndOddMeridianCountAreNamed) {
+  const std::string text = R"(
+[grid]
+type = "body_of_revolution"
+body = "cube"
+[flow]
+reynolds = 100.0
+[bc.body]
+type = "wall"
+[bc.farfield]
+type = "farfield"
+)";
+  std::string m = error_of(text);
+  EXPECT_NE(m.find("grid.body"), std::string::npos) << m;
+  EXPECT_NE(m.find("cube"), std::string::npos) << m;
+  m = error_of(replace(replace(text, "\"cube\"", "\"sphere\""), "[flow]", "cells_along = 15\n[flow]"));
+  EXPECT_NE(m.find("grid.cells_along"), std::string::npos) << m;
+  EXPECT_NE(m.find("even"), std::string::npos) << m;
+  // The valid case builds: six blocks.
+  const CaseConfig c = parse_case(replace(text, "\"cube\"", "\"sphere\""), "sphere.toml", ".");
+  EXPECT_EQ(build_grid(c).blocks.size(), 6u);
+}
+
 TEST(CaseOverrides, SetReplacesAndCreatesKeysAndUnknownOnesAreRejected) {
   const CaseConfig c = parse_case(flat_plate_text(), "p.toml", ".", {"grid.cells_plate=48", "solver.cfl_start = 3.5"});
   EXPECT_EQ(c.grid.plate.n_plate, 48);

@@ -1,0 +1,242 @@
+#include "mesh/body_of_revolution.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "mesh/generators.hpp"
+
+namespace narwhal {
+
+BodyProfile sphere_profile(Real diameter) {
+  return {"sphere", diameter, [diameter](Real x) { return std::sqrt(std::max(0.0, x * (diameter - x))); }};
+}
+
+BodyProfile spheroid_profile(Real length, Real ratio) {
+  const Real a = 0.5 * length, b = a / ratio;
+  return {"spheroid", length, [a, b](Real x) {
+            const Real u = (x - a) / a;
+            return b * std::sqrt(std::max(0.0, 1.0 - u * u));
+          }};
+}
+
+namespace {
+
+constexpr Real kPi = std::numbers::pi;
+
+// The meridian by arc length s from the nose: (x, r) and the unit tangent
+// (dx/ds, dr/ds), from a dense sampling clustered at both ends (x = L (1 - cos pi t)
+// / 2 puts r ~ t at a blunt end, so that the samples resolve the poles).
+class Meridian {
+ public:
+  explicit Meridian(const BodyProfile& p) {
+    constexpr int n = 40000;
+    x_.resize(n + 1);
+    r_.resize(n + 1);
+    s_.resize(n + 1);
+    for (int m = 0; m <= n; ++m) {
+      const Real t = static_cast<Real>(m) / n;
+      x_[m] = 0.5 * p.length * (1.0 - std::cos(kPi * t));
+      r_[m] = m == 0 || m == n ? 0.0 : p.radius(x_[m]);
+      if (!(r_[m] >= 0.0) || !std::isfinite(r_[m]))
+        fail("body profile '{}': radius {} at x = {} (expected finite and >= 0)", p.name, r_[m], x_[m]);
+      s_[m] = m == 0 ? 0.0 : s_[m - 1] + std::hypot(x_[m] - x_[m - 1], r_[m] - r_[m - 1]);
+    }
+  }
+  Real length() const { return s_.back(); }
+
+  // (x, r, dx/ds, dr/ds) at arc length s.
+  std::array<Real, 4> at(Real s) const {
+    s = std::clamp(s, 0.0, length());
+    const auto it = std::upper_bound(s_.begin(), s_.end(), s);
+    const std::size_t m = std::min<std::size_t>(std::max<std::ptrdiff_t>(it - s_.begin(), 1), s_.size() - 1);
+    const Real w = (s - s_[m - 1]) / (s_[m] - s_[m - 1]);
+    const Real x = x_[m - 1] + w * (x_[m] - x_[m - 1]);
+    const Real r = r_[m - 1] + w * (r_[m] - r_[m - 1]);
+    // The tangent, blended from the two neighbouring segments' so that it varies
+    // continuously along the meridian.
+    const auto seg = [&](std::size_t q) {
+      q = std::clamp<std::size_t>(q, 1, s_.size() - 1);
+      const Real ds = s_[q] - s_[q - 1];
+      return std::array<Real, 2>{(x_[q] - x_[q - 1]) / ds, (r_[q] - r_[q - 1]) / ds};
+    };
+    const std::size_t other = w < 0.5 ? m - 1 : m + 1;
+    const Real v = w < 0.5 ? 0.5 - w : w - 0.5;
+    const auto a = seg(m), b = seg(other);
+    Real tx = (1 - v) * a[0] + v * b[0], tr = (1 - v) * a[1] + v * b[1];
+    const Real norm = std::hypot(tx, tr);
+    return {x, r, tx / norm, tr / norm};
+  }
+
+ private:
+  std::vector<Real> x_, r_, s_;
+};
+
+struct SurfacePoint {
+  Vec3 x, n;  // position and outward unit normal
+};
+
+// The surface point at arc length s from the nose and azimuth (cos phi, sin phi).
+SurfacePoint surface(const Meridian& m, Real s, const std::array<Real, 2>& dir) {
+  const auto [x, r, tx, tr] = m.at(s);
+  const auto [c, sn] = dir;
+  return {Vec3(x, r * c, r * sn), Vec3(-tr, tx * c, tx * sn).normalized()};
+}
+
+// The point of polar-projection coordinates (X, Y) around the nose (tail = false) or
+// the tail, where s = |(X, Y)| is measured from that pole.
+SurfacePoint near_pole(const Meridian& m, const std::array<Real, 2>& xy, bool tail) {
+  const Real rho = std::hypot(xy[0], xy[1]);
+  const std::array<Real, 2> dir = rho > 0.0 ? std::array<Real, 2>{xy[0] / rho, xy[1] / rho} : std::array<Real, 2>{1, 0};
+  return surface(m, tail ? m.length() - rho : rho, dir);
+}
+
+// Azimuths are multiples of 90 / cells_around degrees: index m in [0, 4 na] (m and
+// m + 4 na the same). Every block computes a shared node from the same integer, so
+// that the blocks' common faces coincide to the bit; the sector boundaries (m a
+// multiple of na) get exact cosines and sines.
+struct Azimuth {
+  int na;
+  Real phi(int m) const { return (m % (4 * na)) * (0.5 * kPi / na); }
+  std::array<Real, 2> unit(int m) const {
+    m %= 4 * na;
+    if (m % na == 0) {
+      static constexpr std::array<std::array<Real, 2>, 4> axes{{{1, 0}, {0, 1}, {-1, 0}, {0, -1}}};
+      return axes[static_cast<std::size_t>(m / na)];
+    }
+    return {std::cos(phi(m)), std::sin(phi(m))};
+  }
+};
+
+// The point of the diamond |X| + |Y| = rho at azimuth index m, in (X, Y).
+std::array<Real, 2> diamond(Real rho, const Azimuth& az, int m) {
+  const auto [c, s] = az.unit(m);
+  const Real re = rho / (std::abs(c) + std::abs(s));
+  return {re * c, re * s};
+}
+
+// Smooth step 0 -> 1 over [0, 1].
+Real smoothstep(Real t) {
+  t = std::clamp(t, 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+
+// The wall-normal lines: from the surface point along its normal, turning towards
+// the ray from the body's centre over half a body length.
+class Extrusion {
+ public:
+  Extrusion(const BodyGridSpec& s, Real length)
+      : centre_(0.5 * length, 0.0, 0.0),
+        blend_(0.5 * length),
+        d_(geometric_nodes(0.0, s.far_field * length, s.cells_normal, s.first_spacing)) {}
+  int cells() const { return static_cast<int>(d_.size()) - 1; }
+  Vec3 node(const SurfacePoint& p, int k) const {
+    const Real d = d_[static_cast<std::size_t>(k)];
+    Vec3 ray = p.x - centre_;
+    ray = ray.norm() > 0.0 ? ray.normalized() : p.n;
+    const Real w = smoothstep(d / blend_);
+    return p.x + d * ((1.0 - w) * p.n + w * ray).normalized();
+  }
+
+ private:
+  Vec3 centre_;
+  Real blend_;
+  std::vector<Real> d_;
+};
+
+void add_patches(Block& b) {
+  for (int side = 0; side < 6; ++side) {
+    if (side_dir(side) != 2) continue;  // i and j faces: interfaces, found by connect_free_faces
+    Patch p;
+    p.side = side;
+    p.lo = {0, 0, 0};
+    p.hi = b.dims();
+    p.label = side_high(side) ? "farfield" : "body";
+    b.patches.push_back(p);
+  }
+}
+
+}  // namespace
+
+Grid make_body_of_revolution(const BodyGridSpec& spec) {
+  const int na = spec.cells_around, nl = spec.cells_along;
+  if (na < 1 || nl < 2 || spec.cells_normal < 1) fail("body grid: cell counts must be >= 1 (along >= 2)");
+  if (nl % 2 != 0) fail("body grid: cells_along ({}) must be even (clustered at both poles)", nl);
+  const Meridian m(spec.profile);
+  const Real S = m.length(), L = spec.profile.length;
+  const Real pole_ds = spec.pole_spacing > 0.0 ? spec.pole_spacing : L / (4.0 * nl);
+  // The squares' cells about as long as the meridians' first ones.
+  const Real rho = na * pole_ds / std::sqrt(2.0);
+  if (rho >= 0.25 * S)
+    fail("body grid: the pole squares ({} across) would cover more than half the meridian ({}); use a smaller "
+         "pole spacing or fewer cells around",
+         2 * rho, S);
+  // Fractions along a sector's meridians, clustered at both poles; every meridian
+  // takes them over its own length between the two squares.
+  const Real inner = S - 2.0 * rho;
+  const std::vector<Real> f = geometric_nodes_both_ends(0.0, 1.0, nl, std::min(pole_ds / inner, 1.0 / nl));
+  const Extrusion ex(spec, L);
+  const int nk = ex.cells();
+
+  const Azimuth az{na};
+  Grid g;
+  // Four sectors; j runs against the azimuth so that (i, j, k) is right-handed.
+  for (int sector = 0; sector < 4; ++sector) {
+    Block b(fmt::format("sector_{}", sector * 90), nl, na, nk);
+    for (int j = 0; j <= na; ++j) {
+      const int ma = (sector + 1) * na - j;
+      const auto end = diamond(rho, az, ma);
+      const Real re = std::hypot(end[0], end[1]);
+      for (int i = 0; i <= nl; ++i) {
+        SurfacePoint p;
+        if (i == 0 || i == nl)  // on a square's edge: the square's own formula, so that both blocks agree
+          p = near_pole(m, end, i == nl);
+        else
+          p = surface(m, re + (S - 2.0 * re) * f[static_cast<std::size_t>(i)], az.unit(ma));
+        for (int k = 0; k <= nk; ++k) b.x(i, j, k) = ex.node(p, k);
+      }
+    }
+    add_patches(b);
+    g.blocks.push_back(std::move(b));
+  }
+  // The pole squares: transfinite interpolation of the diamond's edges in (X, Y).
+  // Corners c0..c3 at azimuths 0, 90, 180, 270 degrees; square coordinates (a, b)
+  // with (0,0) = c3, (1,0) = c0, (1,1) = c1, (0,1) = c2; each edge's nodes where the
+  // sector's meridians meet it (the same azimuth indices).
+  auto edge = [&](int ma) { return diamond(rho, az, ma); };
+  for (const bool tail : {false, true}) {
+    Block b(tail ? "tail" : "nose", na, na, nk);
+    for (int ia = 0; ia <= na; ++ia)
+      for (int ib = 0; ib <= na; ++ib) {
+        const Real a = static_cast<Real>(ia) / na, c = static_cast<Real>(ib) / na;
+        const auto b0 = edge(3 * na + ia), b1 = edge(2 * na - ia);  // c3 -> c0, c2 -> c1
+        const auto a0 = edge(3 * na - ib), a1 = edge(ib);           // c3 -> c2, c0 -> c1
+        const auto k3 = edge(3 * na), k0 = edge(0), k1 = edge(na), k2 = edge(2 * na);
+        std::array<Real, 2> xy{};
+        for (int d = 0; d < 2; ++d)
+          xy[d] = (1 - c) * b0[d] + c * b1[d] + (1 - a) * a0[d] + a * a1[d] -
+                  ((1 - a) * (1 - c) * k3[d] + a * (1 - c) * k0[d] + a * c * k1[d] + (1 - a) * c * k2[d]);
+        // Edge nodes exactly as the sectors place them.
+        if (ib == 0) xy = b0;
+        if (ib == na) xy = b1;
+        if (ia == 0) xy = a0;
+        if (ia == na) xy = a1;
+        const SurfacePoint p = near_pole(m, xy, tail);
+        // Right-handed with k outward: (i, j) = (b, a) at the nose, (a, b) at the tail.
+        for (int k = 0; k <= nk; ++k) {
+          if (tail)
+            b.x(ia, ib, k) = ex.node(p, k);
+          else
+            b.x(ib, ia, k) = ex.node(p, k);
+        }
+      }
+    add_patches(b);
+    g.blocks.push_back(std::move(b));
+  }
+  return g;  // the i and j faces are connected by finalize_grid (mesh/setup.hpp)
+}
+
+}  // namespace narwhal
