@@ -28,22 +28,35 @@ namespace {
 constexpr Real kPi = std::numbers::pi;
 
 // The meridian by arc length s from the nose: (x, r) and the unit tangent
-// (dx/ds, dr/ds), from a dense sampling clustered at both ends (x = L (1 - cos pi t)
-// / 2 puts r ~ t at a blunt end, so that the samples resolve the poles).
+// (dx/ds, dr/ds), from a dense sampling in t with x = L (1 - cos pi t) / 2, which puts
+// r ~ t at a blunt end so that the samples resolve the poles. The tangent comes from
+// dx/dt (exact) and dr/dt (central differences, r continued oddly through the poles),
+// so that at a blunt pole it is exactly along the radius and the wall line leaving
+// the pole is exactly the axis.
 class Meridian {
  public:
   explicit Meridian(const BodyProfile& p) {
     constexpr int n = 40000;
+    const Real h = 1.0 / n;
     x_.resize(n + 1);
     r_.resize(n + 1);
     s_.resize(n + 1);
+    tx_.resize(n + 1);
+    tr_.resize(n + 1);
     for (int m = 0; m <= n; ++m) {
-      const Real t = static_cast<Real>(m) / n;
-      x_[m] = 0.5 * p.length * (1.0 - std::cos(kPi * t));
+      x_[m] = 0.5 * p.length * (1.0 - std::cos(kPi * m * h));
       r_[m] = m == 0 || m == n ? 0.0 : p.radius(x_[m]);
       if (!(r_[m] >= 0.0) || !std::isfinite(r_[m]))
         fail("body profile '{}': radius {} at x = {} (expected finite and >= 0)", p.name, r_[m], x_[m]);
       s_[m] = m == 0 ? 0.0 : s_[m - 1] + std::hypot(x_[m] - x_[m - 1], r_[m] - r_[m - 1]);
+    }
+    for (int m = 0; m <= n; ++m) {
+      const Real dx = 0.5 * p.length * kPi * std::sin(kPi * m * h);
+      const Real before = m == 0 ? -r_[1] : r_[m - 1], after = m == n ? -r_[n - 1] : r_[m + 1];
+      const Real dr = (after - before) / (2.0 * h);
+      const Real norm = std::hypot(dx, dr);
+      tx_[m] = m == 0 || m == n ? 0.0 : dx / norm;
+      tr_[m] = dr / norm;
     }
   }
   Real length() const { return s_.back(); }
@@ -54,25 +67,13 @@ class Meridian {
     const auto it = std::upper_bound(s_.begin(), s_.end(), s);
     const std::size_t m = std::min<std::size_t>(std::max<std::ptrdiff_t>(it - s_.begin(), 1), s_.size() - 1);
     const Real w = (s - s_[m - 1]) / (s_[m] - s_[m - 1]);
-    const Real x = x_[m - 1] + w * (x_[m] - x_[m - 1]);
-    const Real r = r_[m - 1] + w * (r_[m] - r_[m - 1]);
-    // The tangent, blended from the two neighbouring segments' so that it varies
-    // continuously along the meridian.
-    const auto seg = [&](std::size_t q) {
-      q = std::clamp<std::size_t>(q, 1, s_.size() - 1);
-      const Real ds = s_[q] - s_[q - 1];
-      return std::array<Real, 2>{(x_[q] - x_[q - 1]) / ds, (r_[q] - r_[q - 1]) / ds};
-    };
-    const std::size_t other = w < 0.5 ? m - 1 : m + 1;
-    const Real v = w < 0.5 ? 0.5 - w : w - 0.5;
-    const auto a = seg(m), b = seg(other);
-    Real tx = (1 - v) * a[0] + v * b[0], tr = (1 - v) * a[1] + v * b[1];
-    const Real norm = std::hypot(tx, tr);
-    return {x, r, tx / norm, tr / norm};
+    auto mix = [&](const std::vector<Real>& v) { return v[m - 1] + w * (v[m] - v[m - 1]); };
+    const Real tx = mix(tx_), tr = mix(tr_), norm = std::hypot(tx, tr);
+    return {mix(x_), mix(r_), tx / norm, tr / norm};
   }
 
  private:
-  std::vector<Real> x_, r_, s_;
+  std::vector<Real> x_, r_, s_, tx_, tr_;
 };
 
 struct SurfacePoint {

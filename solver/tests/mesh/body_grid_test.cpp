@@ -118,6 +118,20 @@ TEST(BodyOfRevolution, SectorBoundariesLieAtAzimuthsZeroNinetyOneEightyTwoSevent
   }
 }
 
+// The grid lines leaving the poles (the squares' centre nodes, cells_around even) run
+// along the axis: the wake's centre line is a grid line.
+TEST(BodyOfRevolution, LinesFromThePolesRunAlongTheAxis) {
+  const BodyGridSpec s = small_spec(spheroid_profile(1.0, 6.0));
+  const Grid g = make_body_of_revolution(s);
+  for (const Block& b : g.blocks) {
+    if (b.name != "nose" && b.name != "tail") continue;
+    const int c = b.ni / 2;
+    for (int k = 0; k <= b.nk; ++k)
+      EXPECT_LT(std::hypot(b.x(c, c, k).y(), b.x(c, c, k).z()), 1e-12) << b.name << " k = " << k;
+    EXPECT_NEAR(b.x(c, c, 0).x(), b.name == "nose" ? 0.0 : 1.0, 1e-12) << b.name;
+  }
+}
+
 TEST(BodyOfRevolution, FreeStreamIsPreservedToRoundOff) {
   for (const BodyProfile& p : {sphere_profile(1.0), spheroid_profile(1.0, 6.0)}) {
     Grid g = finalized(small_spec(p), BcType::Dirichlet);
