@@ -78,13 +78,16 @@ class Meridian {
 
 struct SurfacePoint {
   Vec3 x, n;  // position and outward unit normal
+  Vec3 far;   // the direction the wall line takes far out (polar angle pi s / S)
 };
 
 // The surface point at arc length s from the nose and azimuth (cos phi, sin phi).
 SurfacePoint surface(const Meridian& m, Real s, const std::array<Real, 2>& dir) {
   const auto [x, r, tx, tr] = m.at(s);
   const auto [c, sn] = dir;
-  return {Vec3(x, r * c, r * sn), Vec3(-tr, tx * c, tx * sn).normalized()};
+  const Real theta = kPi * std::clamp(s / m.length(), 0.0, 1.0);
+  return {Vec3(x, r * c, r * sn), Vec3(-tr, tx * c, tx * sn).normalized(),
+          Vec3(-std::cos(theta), std::sin(theta) * c, std::sin(theta) * sn)};
 }
 
 // The point of polar-projection coordinates (X, Y) around the nose (tail = false) or
@@ -125,25 +128,24 @@ Real smoothstep(Real t) {
   return t * t * (3.0 - 2.0 * t);
 }
 
-// The wall-normal lines: from the surface point along its normal, turning towards
-// the ray from the body's centre over half a body length.
+// The wall-normal lines: from the surface point along its normal, turning over half
+// a body length towards the direction of polar angle pi s / S (s the arc length from
+// the nose, S the meridian's): forward from the nose, radial at mid-length, aft from
+// the tail. Monotone along the meridian, so lines from a slender body's nose do not
+// cross (rays from the centre did: a 6:1 spheroid folded).
 class Extrusion {
  public:
   Extrusion(const BodyGridSpec& s, Real length)
-      : centre_(0.5 * length, 0.0, 0.0),
-        blend_(0.5 * length),
+      : blend_(0.5 * length),
         d_(geometric_nodes(0.0, s.far_field * length, s.cells_normal, s.first_spacing)) {}
   int cells() const { return static_cast<int>(d_.size()) - 1; }
   Vec3 node(const SurfacePoint& p, int k) const {
     const Real d = d_[static_cast<std::size_t>(k)];
-    Vec3 ray = p.x - centre_;
-    ray = ray.norm() > 0.0 ? ray.normalized() : p.n;
     const Real w = smoothstep(d / blend_);
-    return p.x + d * ((1.0 - w) * p.n + w * ray).normalized();
+    return p.x + d * ((1.0 - w) * p.n + w * p.far).normalized();
   }
 
  private:
-  Vec3 centre_;
   Real blend_;
   std::vector<Real> d_;
 };

@@ -13,8 +13,9 @@
 // where the sectors' meridians meet them. Three blocks meet at each square corner
 // (angles of about 90, 135 and 135 degrees): no zero-area face and no axis anywhere.
 // Each surface block is extruded to the far field: wall lines leave along the surface
-// normal and turn towards the ray from the body's centre, so that the outer boundary
-// is roughly a sphere `far_field` body lengths out.
+// normal and turn towards the direction of polar angle pi s / S (forward at the nose,
+// radial at mid-length, aft at the tail), so that the outer boundary is roughly a
+// sphere `far_field` body lengths out.
 //
 // Coordinates: the axis is x, the nose at x = 0 and the tail at x = L; azimuth phi
 // runs from +y towards +z. Patch labels: "body" (every block's kmin) and "farfield"

@@ -88,6 +88,17 @@ TEST(BodyOfRevolution, SixBlocksJoinedOneToOneWithNoDegenerateFace) {
   }
 }
 
+// A slender body at a working resolution (wall spacing 1e-3 L, 48 cells out): no
+// folded cell (finalize_grid refuses non-positive volumes).
+TEST(BodyOfRevolution, SlenderSpheroidAtWorkingResolutionHasNoFoldedCell) {
+  BodyGridSpec s = small_spec(spheroid_profile(1.0, 6.0));
+  s.cells_along = 64;
+  s.cells_around = 16;
+  s.cells_normal = 48;
+  s.pole_spacing = 0.005;
+  EXPECT_NO_THROW(finalized(s, BcType::Dirichlet));
+}
+
 TEST(BodyOfRevolution, WallNodesLieOnTheBodyAndTheOuterBoundaryIsFarAway) {
   for (const BodyProfile& p : {sphere_profile(1.0), spheroid_profile(2.0, 6.0)}) {
     const BodyGridSpec s = small_spec(p);
