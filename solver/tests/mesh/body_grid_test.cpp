@@ -38,15 +38,8 @@ Grid finalized(const BodyGridSpec& s, BcType type) {
 // cells close. Against the volume instead (|R|/V) the same round-off grows as the
 // inverse of the wall spacing: 2e-12 on these grids' wall cells, 1e-3 thick.
 Real free_stream_residual(Grid& g) {
-  const State q0 = (State() << 0.3, 0.7, -0.2, 0.1).finished();
-  FlowParams fp;
-  fp.reynolds = 100.0;
-  fp.exact = [q0](const Vec3&) { return q0; };
-  FlowField f;
-  f.allocate(g, fp, q0);
-  fill_ghosts(g, f, fp);
-  std::vector<GhostArray<State>> R;
-  compute_residual(g, f, fp, R);
+  const std::vector<GhostArray<State>> R =
+      test::uniform_state_residual(g, (State() << 0.3, 0.7, -0.2, 0.1).finished());
   Real worst = 0.0;
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
