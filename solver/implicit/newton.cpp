@@ -174,7 +174,8 @@ void NewtonSolver::assemble_block(int ib, Real cfl) {
   const auto& Q = f_.Q[ib];
   const auto& nu = f_.nu[ib];
   const Real eps = s_.fd_epsilon;
-  // Face Jacobians of the first-order flux (phi = 0) plus the thin-layer viscous part (§4.4).
+  // Face Jacobians of the first-order flux (phi = 0) plus the viscous part along the
+  // face-normal difference (§4.4; for the full stress with its S S^T term).
   auto interior_face = [&](int d, const Index3& f) {
     const Index3 cL = add(f, unit(d), -1), cR = f;
     const FaceGeom face{b.S[d](f), b.kt[d](f)};
@@ -185,10 +186,17 @@ void NewtonSolver::assemble_block(int ib, Real cfl) {
                                  F0, eps);
     if (fp_.viscous != ViscousForm::Inviscid) {
       const Real cv = thin_layer_coefficient(b, nu, d, f);
-      for (int m = 1; m < kNumEq; ++m) {
-        AL(m, m) += cv;
-        AR(m, m) -= cv;
+      Mat3 V = cv * Mat3::Identity();
+      // The full stress also carries nu (du/dn . S) S / V_f, the transpose-gradient
+      // part of tau S along the face-normal difference (§4.2). Left out, the normal
+      // velocity's implicit coefficient is half its explicit one: at low Reynolds
+      // numbers and large CFL the iteration then overshoots and diverges.
+      if (fp_.viscous == ViscousForm::Full) {
+        const Vec3& S = b.S[d](f);
+        V += (cv / S.squaredNorm()) * S * S.transpose();
       }
+      AL.bottomRightCorner<3, 3>() += V;
+      AR.bottomRightCorner<3, 3>() -= V;
     }
     AL_[ib][d](f) = AL;
     AR_[ib][d](f) = AR;
