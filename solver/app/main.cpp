@@ -3,12 +3,17 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "app/driver.hpp"
 #include "core/error.hpp"
+#include "io/cgns_writer.hpp"
+#include "mesh/grid_quality.hpp"
+#include "mesh/plot3d.hpp"
 #include "multigrid/coarsen.hpp"
 #include "parallel/communicator.hpp"
 #include "parallel/halo.hpp"
@@ -48,6 +53,32 @@ int check_case(const std::string& path, const std::vector<std::string>& override
     level = coarsen(level);
   }
   fmt::print("  multigrid: {} level(s)\n", c.solver.multigrid.levels);
+  return 0;
+}
+
+// `narwhal grid`: the case's grid as the solver would run it (generated or read,
+// coarsened), written as CGNS (with patch labels) and Plot3D, and its quality report.
+// A folded cell is an error, after the files are written so that it can be looked at.
+int grid_case(const std::string& path, const std::vector<std::string>& overrides, const std::string& out_dir) {
+  const CaseConfig c = load_case(path, overrides);
+  const Grid g = build_grid(c);
+  std::filesystem::create_directories(out_dir);
+  const std::string cgns = (std::filesystem::path(out_dir) / "grid.cgns").string();
+  const std::string xyz = (std::filesystem::path(out_dir) / "grid.xyz").string();
+  write_cgns_grid(cgns, g);
+  write_plot3d_fortran(xyz, g.blocks);
+  std::vector<std::string> walls;
+  for (const Block& b : g.blocks)
+    for (const Patch& p : b.patches)
+      if (p.type == BcType::Wall && std::find(walls.begin(), walls.end(), p.label) == walls.end())
+        walls.push_back(p.label);
+  const GridQuality q = measure_grid_quality(g, walls, c.flow.reynolds);
+  fmt::print("{}: {} block(s), {} cells; wrote {} (patches labelled) and {} (Plot3D, Fortran unformatted, "
+             "double, no patches)\n", path, g.blocks.size(), g.cells(), cgns, xyz);
+  for (const Block& b : g.blocks) fmt::print("  block '{}': {} x {} x {} cells\n", b.name, b.ni, b.nj, b.nk);
+  fmt::print("quality (walls: {}; Re = {:g} per unit length):\n{}", walls.empty() ? "none" : fmt::format("{}", fmt::join(walls, ", ")),
+             c.flow.reynolds, format_grid_quality(q));
+  require_unfolded(q, path);
   return 0;
 }
 
@@ -117,6 +148,12 @@ int main(int argc, char** argv) {
   partition->add_option("--ranks,-n", ranks, "number of ranks")->capture_default_str()->check(CLI::PositiveNumber);
   partition->add_option("--set", overrides, "override a case key (value in TOML syntax)");
 
+  std::string grid_path, grid_out = "grid";
+  auto* grid = app.add_subcommand("grid", "write a case's grid (grid.cgns, grid.xyz) and print its quality report");
+  grid->add_option("case", grid_path, "case file (TOML)")->required();
+  grid->add_option("--out,-o", grid_out, "output directory")->capture_default_str();
+  grid->add_option("--set", overrides, "override a case key (value in TOML syntax)");
+
   auto* list_models = app.add_subcommand("list-models", "list the turbulence models (turbulence.model = \"name\")");
 
   try {
@@ -139,6 +176,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*check) return check_case(check_path, overrides);
+    if (*grid) return grid_case(grid_path, overrides, grid_out);
     if (*partition) return partition_case(partition_path, overrides, ranks);
     RunOptions opt;
     opt.out_dir = out_dir;

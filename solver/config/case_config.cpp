@@ -1,9 +1,5 @@
 #include "config/case_config.hpp"
 
-#include "parallel/partition.hpp"
-
-#include "multigrid/coarsen.hpp"
-
 #include <cmath>
 #include <filesystem>
 
@@ -11,9 +7,11 @@
 
 #include "config/reader.hpp"
 #include "core/error.hpp"
+#include "io/cgns_reader.hpp"
 #include "mesh/connectivity.hpp"
 #include "mesh/plot3d.hpp"
 #include "multigrid/coarsen.hpp"
+#include "parallel/partition.hpp"
 
 namespace narwhal {
 namespace {
@@ -39,7 +37,7 @@ BcType parse_bc_type(const ConfigReader& r, const std::string& key) {
 }
 
 void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g) {
-  g.type = r.string("grid.type", "one of flat_plate, box, perturbed_box, body_of_revolution, plot3d");
+  g.type = r.string("grid.type", "one of flat_plate, box, perturbed_box, body_of_revolution, plot3d, cgns");
   if (g.type == "flat_plate") {
     auto& p = g.plate;
     p.x_runup = r.number_or("grid.runup", p.x_runup, "the run-up length ahead of the plate", Range::positive());
@@ -124,13 +122,14 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
     // Beyond about a quarter of the box the perturbed cells fold over.
     g.perturbed_amplitude = r.number_or("grid.amplitude", g.perturbed_amplitude, "the sinusoidal perturbation amplitude",
                                         Range::between(-0.2, 0.2));
-  } else if (g.type == "plot3d") {
-    const std::string f = r.string("grid.file", "the Plot3D grid file (relative to the case file)");
-    g.plot3d_file = std::filesystem::path(f).is_absolute() ? f : (std::filesystem::path(base_dir) / f).string();
+  } else if (g.type == "plot3d" || g.type == "cgns") {
+    const std::string f = r.string("grid.file", fmt::format("the {} grid file (relative to the case file)",
+                                                             g.type == "cgns" ? "CGNS" : "Plot3D"));
+    g.grid_file = std::filesystem::path(f).is_absolute() ? f : (std::filesystem::path(base_dir) / f).string();
     const std::size_t n = r.array_size("grid.patch");
     for (std::size_t i = 0; i < n; ++i) {
       const std::string pre = fmt::format("grid.patch[{}].", i);
-      Plot3dPatch p;
+      FilePatch p;
       p.key = fmt::format("grid.patch[{}]", i);
       p.block = r.integer(pre + "block", "the 1-based block number", Range::at_least(1)) - 1;
       const std::string side = r.string(pre + "side", "one of imin, imax, jmin, jmax, kmin, kmax");
@@ -154,10 +153,10 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
           p.range_key[t] = key;
         }
       }
-      g.plot3d_patches.push_back(p);
+      g.file_patches.push_back(p);
     }
   } else {
-    r.error("grid.type", "unknown grid type '" + g.type + "'; valid: flat_plate, box, perturbed_box, body_of_revolution, plot3d");
+    r.error("grid.type", "unknown grid type '" + g.type + "'; valid: flat_plate, box, perturbed_box, body_of_revolution, plot3d, cgns");
   }
   if (r.has("grid.split")) {
     const Vec3 s = r.vec3("grid.split", "[parts_i, parts_j, parts_k]", Range::between(1, 64));
@@ -361,16 +360,16 @@ Grid build_grid_from(const CaseConfig& c, int balance_ranks) {
     g = make_body_of_revolution(gc.body);
   } else if (gc.type == "perturbed_box") {
     g.blocks.push_back(make_perturbed_box("box", gc.perturbed_cells, gc.perturbed_amplitude));
-  } else if (gc.type == "plot3d") {
+  } else if (gc.type == "plot3d" || gc.type == "cgns") {
     try {
-      g.blocks = read_plot3d(gc.plot3d_file);
+      g.blocks = gc.type == "cgns" ? read_cgns_grid(gc.grid_file) : read_plot3d(gc.grid_file);
     } catch (const Error& e) {
       fail("{}: key 'grid.file': {}", c.file, e.what());
     }
-    for (Plot3dPatch p : gc.plot3d_patches) {
+    for (FilePatch p : gc.file_patches) {
       if (p.block < 0 || p.block >= static_cast<int>(g.blocks.size()))
         fail("{}: key '{}.block': patch '{}' names block {} but '{}' has {} blocks", c.file, p.key, p.label,
-             p.block + 1, gc.plot3d_file, g.blocks.size());
+             p.block + 1, gc.grid_file, g.blocks.size());
       Block& b = g.blocks[p.block];
       Patch q;
       q.side = p.side;
@@ -433,7 +432,7 @@ Grid build_grid(const CaseConfig& c, int balance_ranks) {
     const std::string what = e.what();
     if (what.rfind(c.file, 0) == 0) throw;
     // The blocks of an imported grid are the grid file's: name it too.
-    if (c.grid.type == "plot3d") fail("{}: grid file '{}': {}", c.file, c.grid.plot3d_file, what);
+    if (c.grid.type == "plot3d" || c.grid.type == "cgns") fail("{}: grid file '{}': {}", c.file, c.grid.grid_file, what);
     fail("{}: {}", c.file, what);
   }
 }

@@ -18,7 +18,7 @@
 
 namespace narwhal {
 
-struct Plot3dPatch {
+struct FilePatch {
   int block = 0;  // 0-based
   int side = 0;
   Index3 lo{0, 0, 0}, hi{0, 0, 0};  // hi < 0: the whole face in that direction
@@ -28,14 +28,14 @@ struct Plot3dPatch {
 };
 
 struct GridConfig {
-  std::string type;  // flat_plate | box | perturbed_box | body_of_revolution | plot3d
+  std::string type;  // flat_plate | box | perturbed_box | body_of_revolution | plot3d | cgns
   FlatPlateSpec plate;
   BodyGridSpec body;
   std::array<std::vector<Real>, 3> box_nodes;  // box: node coordinates per direction
   int perturbed_cells = 8;
   Real perturbed_amplitude = 0.04;
-  std::string plot3d_file;
-  std::vector<Plot3dPatch> plot3d_patches;
+  std::string grid_file;                // plot3d, cgns
+  std::vector<FilePatch> file_patches;  // patches the file does not carry (all of a Plot3D grid's)
   Index3 split{1, 1, 1};
   bool split_rotate = false;
   int coarsen = 0;  // remove every other grid line this many times (nested grid families)

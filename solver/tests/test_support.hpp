@@ -29,6 +29,18 @@ inline std::filesystem::path fresh_temp_dir(const std::string& stem) {
 
 inline std::string source_path(const std::string& rel) { return std::string(NARWHAL_SOURCE_DIR) + "/" + rel; }
 
+inline std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open " + path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+inline void write_text(const std::string& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
 // Columns of a CSV file with '#' comment lines and one header row.
 inline std::map<std::string, std::vector<double>> read_csv(const std::string& path) {
   std::ifstream in(path);
