@@ -67,12 +67,13 @@ int grid_case(const std::string& path, const std::vector<std::string>& overrides
   const std::string xyz = (std::filesystem::path(out_dir) / "grid.xyz").string();
   write_cgns_grid(cgns, g);
   write_plot3d_fortran(xyz, g.blocks);
-  std::vector<std::string> walls;
+  std::vector<std::string> walls;  // the body's surfaces: no-slip and slip walls
   for (const Block& b : g.blocks)
     for (const Patch& p : b.patches)
-      if (p.type == BcType::Wall && std::find(walls.begin(), walls.end(), p.label) == walls.end())
+      if (p.body_surface && std::find(walls.begin(), walls.end(), p.label) == walls.end())
         walls.push_back(p.label);
-  const GridQuality q = measure_grid_quality(g, walls, c.flow.reynolds);
+  // y+ only where there is a viscous wall layer to resolve
+  const GridQuality q = measure_grid_quality(g, walls, c.flow.viscous == ViscousForm::Inviscid ? 0.0 : c.flow.reynolds);
   fmt::print("{}: {} block(s), {} cells; wrote {} (patches labelled) and {} (Plot3D, Fortran unformatted, "
              "double, no patches)\n", path, g.blocks.size(), g.cells(), cgns, xyz);
   for (const Block& b : g.blocks) fmt::print("  block '{}': {} x {} x {} cells\n", b.name, b.ni, b.nj, b.nk);

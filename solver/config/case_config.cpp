@@ -25,15 +25,36 @@ const Range kSmoothCount = Range::between(1, 100);
 constexpr int kMaxSplitRanks = 4096;
 
 
-BcType parse_bc_type(const ConfigReader& r, const std::string& key) {
+// A slip wall is the symmetry condition (§5.4) on a body surface: the same ghosts,
+// with surface output and forces (pressure only).
+PatchBc parse_bc_type(const ConfigReader& r, const std::string& key) {
   const std::string t = r.string(key, "a boundary type");
   static const std::pair<const char*, BcType> types[] = {
-      {"wall", BcType::Wall},         {"farfield", BcType::Farfield}, {"inflow", BcType::Inflow},
-      {"outflow", BcType::Outflow},   {"symmetry", BcType::Symmetry}, {"dirichlet", BcType::Dirichlet}};
+      {"wall", BcType::Wall},         {"slip_wall", BcType::Symmetry}, {"farfield", BcType::Farfield},
+      {"inflow", BcType::Inflow},     {"outflow", BcType::Outflow},    {"symmetry", BcType::Symmetry},
+      {"dirichlet", BcType::Dirichlet}};
   for (const auto& [name, type] : types)
-    if (t == name) return type;
+    if (t == name) {
+      PatchBc bc;
+      bc.type = type;
+      bc.body_surface = t == "slip_wall";  // walls are body surfaces anyway (assign_bc)
+      return bc;
+    }
   r.error(key, "unknown boundary type '" + t +
-                   "'; valid types: wall, farfield, inflow, outflow, symmetry, dirichlet (and [[periodic]] pairs)");
+                   "'; valid types: wall, slip_wall, farfield, inflow, outflow, symmetry, dirichlet (and [[periodic]] "
+                   "pairs)");
+}
+
+// The unit free stream from flow.angle_of_attack and flow.drift_angle (degrees),
+// for bodies whose nose points to -x of the grid: body axes (NUMERICS §0.1) x_B = -x,
+// y_B = -y, z_B = z (down). The body moves at U (cos a cos b, -sin b, sin a cos b)
+// in its own axes (a = atan(w/u), b = -asin(v/U)); the fluid passes it at minus that.
+Vec3 free_stream_direction(const ConfigReader& r) {
+  const Real deg = M_PI / 180.0;
+  const Real a = deg * r.number_or("flow.angle_of_attack", 0.0, "the angle of attack in degrees",
+                                   Range::between(-90, 90));
+  const Real b = deg * r.number_or("flow.drift_angle", 0.0, "the drift angle in degrees", Range::between(-90, 90));
+  return {std::cos(a) * std::cos(b), -std::sin(b), -std::sin(a) * std::cos(b)};
 }
 
 void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g) {
@@ -194,7 +215,8 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   f.muscl.phi = r.number_or("flow.muscl_phi", f.muscl.phi, "the MUSCL phi (0 first order, 1 higher order)",
                              Range::between(0, 1));
   c.initial[0] = r.number_or("flow.initial_pressure", 0.0, "the initial pressure");
-  c.initial.tail<3>() = r.vec3_or("flow.initial_velocity", Vec3(1, 0, 0), "the initial velocity [u, v, w]");
+  c.free_stream = free_stream_direction(r);
+  c.initial.tail<3>() = r.vec3_or("flow.initial_velocity", c.free_stream, "the initial velocity [u, v, w]");
   c.body_force = r.vec3_or("flow.body_force", Vec3::Zero(), "a constant body force per unit volume [fx, fy, fz]");
   c.bulk_velocity = r.number_or("flow.bulk_velocity", 0.0,
                                 "the bulk velocity the body force is adjusted to (periodic ducts; 0: force fixed)",
@@ -206,9 +228,12 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
 
   for (const std::string& label : r.subtables("bc")) {
     const std::string pre = "bc." + label + ".";
-    PatchBc bc;
-    bc.type = parse_bc_type(r, pre + "type");
-    bc.velocity = r.vec3_or(pre + "velocity", bc.type == BcType::Wall ? Vec3::Zero() : Vec3(1, 0, 0),
+    PatchBc bc = parse_bc_type(r, pre + "type");
+    const bool free_stream = bc.type == BcType::Farfield || bc.type == BcType::Inflow;
+    if (free_stream && r.has(pre + "velocity") && (r.has("flow.angle_of_attack") || r.has("flow.drift_angle")))
+      r.error(pre + "velocity", "flow.angle_of_attack / flow.drift_angle already set the free stream; give one or "
+                                "the other");
+    bc.velocity = r.vec3_or(pre + "velocity", bc.type == BcType::Wall ? Vec3::Zero() : c.free_stream,
                             "the velocity [u, v, w]");
     bc.pressure = r.number_or(pre + "pressure", 0.0, "the outflow pressure");
     c.bcs[label] = bc;

@@ -80,6 +80,9 @@ struct CaseConfig {
   GridConfig grid;
   FlowParams flow;
   State initial = State::Zero();
+  // Unit free stream: +x, or from flow.angle_of_attack / flow.drift_angle (body nose at
+  // -x of the grid; NUMERICS §0.1 body axes x_B = -x, y_B = -y, z_B = z).
+  Vec3 free_stream = Vec3::UnitX();
   std::map<std::string, PatchBc> bcs;
   std::vector<PeriodicConfig> periodic;
   SolverConfig solver;

@@ -45,6 +45,9 @@ struct Patch {
   // Physical data (filled from the case's [bc.<label>] table).
   Vec3 velocity = Vec3::Zero();  // wall velocity, inflow velocity or far-field velocity
   Real pressure = 0.0;           // outflow pressure
+  // Part of the body: surface output and forces are taken here (every no-slip wall,
+  // and slip walls: symmetry conditions on a body surface, for inviscid runs).
+  bool body_surface = false;
 };
 
 struct Block {

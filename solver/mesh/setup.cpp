@@ -13,6 +13,7 @@ int assign_bc(Grid& g, const std::string& label, const PatchBc& bc) {
         p.type = bc.type;
         p.velocity = bc.velocity;
         p.pressure = bc.pressure;
+        p.body_surface = bc.body_surface || bc.type == BcType::Wall;  // every no-slip wall is the body's
         ++n;
       }
   return n;

@@ -11,6 +11,7 @@ struct PatchBc {
   BcType type = BcType::Wall;
   Vec3 velocity = Vec3::Zero();
   Real pressure = 0.0;
+  bool body_surface = false;  // Patch::body_surface (implied for walls)
 };
 
 // Applies `bc` to every patch labelled `label`; returns how many patches matched.

@@ -20,7 +20,7 @@ void wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp,
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
     for (const Patch& p : b.patches) {
-      if (p.type != BcType::Wall) continue;
+      if (!p.body_surface) continue;
       auto& list = out[p.label];  // every rank knows every group, faces or not
       if (!g.owns(ib)) continue;
       const int d = side_dir(p.side);
@@ -33,7 +33,11 @@ void wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp,
         const State& q1 = f.Q[ib](interior_cell(b, p.side, c, 1));
         w.x = b.xf[d](fidx);
         w.area = b.S[d](fidx).norm();
-        w.cp = 2.0 * q1[0];  // p_w = p_1 (§5.1), p_inf = 0
+        w.cp = 2.0 * q1[0];  // p_w = p_1 (§5.1, §5.4), p_inf = 0
+        if (p.type != BcType::Wall) {  // a slip wall carries no shear
+          list.push_back(w);
+          return;
+        }
         Vec3 du = q1.tail<3>() - p.velocity;
         du -= w.n * w.n.dot(du);
         const Vec3 tau = du / (fp.reynolds * dw);  // §4.5
@@ -82,7 +86,7 @@ std::map<std::string, ForceCoefficients> integrate_forces(const Grid& g,
       const Block& b = g.blocks[ib];
       std::size_t n = 0;
       for (const Patch& p : b.patches)
-        if (p.type == BcType::Wall && p.label == name) {
+        if (p.body_surface && p.label == name) {
           const PatchRange r = face_range(p);
           n += static_cast<std::size_t>(r.hi[0] - r.lo[0]) * (r.hi[1] - r.lo[1]) * (r.hi[2] - r.lo[2]);
         }

@@ -1,5 +1,6 @@
 #pragma once
-// Surface quantities on no-slip walls (§4.5) and their integrals per wall group.
+// Surface quantities on the body's patches (Patch::body_surface: no-slip walls, §4.5,
+// and slip walls, pressure only) and their integrals per patch label.
 #include <map>
 #include <span>
 #include <string>

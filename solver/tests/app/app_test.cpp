@@ -135,6 +135,45 @@ type = "farfield"
   EXPECT_EQ(build_grid(c).blocks.size(), 6u);
 }
 
+// Angle of attack and drift (NUMERICS §0.1 body axes, nose at -x of the grid): the
+// free stream passes the body at U (cos a cos b, -sin b, -sin a cos b); a far-field
+// velocity given as well is refused, naming both keys.
+TEST(CaseFreeStream, AnglesSetTheFreeStreamAndConflictWithAnExplicitVelocity) {
+  const std::string text = test::read_text(test::source_path("validation/cases/sphere_laminar/sphere.toml"));
+  const std::string no_velocity = replace(text, "\nvelocity = [1.0, 0.0, 0.0]", "\n");
+  const CaseConfig c = parse_case(no_velocity, "s.toml", ".", {"flow.angle_of_attack=10.0", "flow.drift_angle=-4.0"});
+  const Real a = 10.0 * M_PI / 180.0, b = -4.0 * M_PI / 180.0;
+  const Vec3 expected(std::cos(a) * std::cos(b), -std::sin(b), -std::sin(a) * std::cos(b));
+  EXPECT_LT((c.bcs.at("farfield").velocity - expected).norm(), 1e-15);
+  EXPECT_LT((c.free_stream - expected).norm(), 1e-15);
+  // The initial velocity keeps the case's own value when it gives one.
+  EXPECT_EQ(c.initial.tail<3>(), Vec3(1, 0, 0));
+  const std::string e = error_of(replace(text, "[flow]", "[flow]\nangle_of_attack = 5.0"), "s.toml");
+  EXPECT_NE(e.find("bc.farfield.velocity"), std::string::npos) << e;
+  EXPECT_NE(e.find("flow.angle_of_attack"), std::string::npos) << e;
+}
+
+// A slip wall is a symmetry condition whose faces belong to the body: surface output
+// and forces (pressure only; the friction part is zero).
+TEST(SlipWall, BodyFacesCarryPressureForcesAndNoFriction) {
+  const fs::path dir = test::fresh_temp_dir("slip_wall");
+  const std::string text = test::read_text(test::source_path("validation/cases/sphere_laminar/sphere.toml"));
+  const CaseConfig c = parse_case(replace(replace(text, "type = \"wall\"", "type = \"slip_wall\""), "beta = 5.0",
+                                          "beta = 5.0\nviscous = \"inviscid\""),
+                                  (dir / "s.toml").string(), dir.string(),
+                                  {"grid.coarsen=2", "solver.max_iterations=3", "solver.multigrid_levels=1"});
+  RunOptions o;
+  o.out_dir = (dir / "run").string();
+  run_case(c, o);
+  const auto surface = test::read_csv((dir / "run" / "surface_body.csv").string());
+  ASSERT_EQ(surface.at("cp").size(), 4u * 16u * 8u + 2u * 8u * 8u);  // the coarse grid's body faces
+  for (double cf : surface.at("cf_x")) EXPECT_EQ(cf, 0.0);
+  const std::string json = test::read_text((dir / "run" / "run.json").string());
+  EXPECT_NE(json.find("\"body_axes\""), std::string::npos);
+  const auto hist = test::read_csv((dir / "run" / "history.csv").string());
+  EXPECT_NE(hist.at("body_cfx").back(), 0.0);  // pressure drag of the starting flow
+}
+
 TEST(CaseOverrides, SetReplacesAndCreatesKeysAndUnknownOnesAreRejected) {
   const CaseConfig c = parse_case(flat_plate_text(), "p.toml", ".", {"grid.cells_plate=48", "solver.cfl_start = 3.5"});
   EXPECT_EQ(c.grid.plate.n_plate, 48);
