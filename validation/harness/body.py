@@ -3,7 +3,9 @@
 where the block 'tail' closes on the axis."""
 import numpy as np
 
+from .compare import Curve
 from .errors import HarnessError
+from .reference import ReferenceFile
 from .schema import extractor
 
 
@@ -41,3 +43,96 @@ def recirculation_length(ctx, spec, run_id):
         w = -u[k - 1] / (u[k] - u[k - 1])
         length = ((1 - w) * x[k - 1] + w * x[k] - rear) / diameter
     return length
+
+
+def _tap_rows(ctx, taps):
+    """Rows of a tap table (reference_data file, optional `where`), as in the reference
+    spec whose x is "#row": both sides enumerate the same taps in the same order."""
+    if not isinstance(taps, dict) or "file" not in taps:
+        raise HarnessError("surface_taps: 'taps' needs {file, where, x, phi}: the tap table under reference_data/")
+    ref = ReferenceFile(ctx.reference_root, taps["file"])
+    rows = ref.rows_where(taps["where"]) if "where" in taps else list(range(len(ref.rows)))
+    return ref.column(taps.get("x", "x_over_L"), rows), ref.column(taps.get("phi", "phi_deg"), rows)
+
+
+@extractor("surface_taps", "group", "taps", "length", "windward", "exclude_pole_stations")
+def surface_taps(ctx, spec, run_id):
+    """Surface Cp at pressure taps (x / L, azimuth phi from the windward meridian) on
+    a body of revolution along x whose flow is symmetric about the windward plane: at
+    each tap, a least-squares plane in (x, r phi) through the two nearest wall faces of
+    each quadrant around it (faces mirrored across the symmetry plane, so that taps on
+    it are surrounded too) — second order on a smooth surface grid, and never an
+    extrapolation along a direction the grid is coarse in. The taps of the
+    `exclude_pole_stations` stations nearest each pole are left out. Returns a Curve
+    over the taps' row numbers (the reference side uses x = "#row")."""
+    from .extract import _need, read_csv  # extract imports this module to register it
+    group = spec.get("group", "body")
+    path = ctx.run_dir(run_id) / f"surface_{group}.csv"
+    if not path.exists():
+        raise HarnessError(f"run '{run_id}' wrote no {path.name}")
+    t = read_csv(path)
+    length = float(spec.get("length", 1.0))
+    wind = np.asarray(spec.get("windward", [0.0, 0.0, 1.0]), dtype=float)
+    wind /= np.linalg.norm(wind)
+    side = np.cross([1.0, 0.0, 0.0], wind)
+    phi = np.arctan2(np.abs(t["y"] * side[1] + t["z"] * side[2]), t["y"] * wind[1] + t["z"] * wind[2])
+    radius = np.hypot(t["y"], t["z"]) / length
+    # the symmetric extension: phi, -phi and 2 pi - phi
+    fx = np.tile(t["x"] / length, 3)
+    fphi = np.concatenate([phi, -phi, 2.0 * np.pi - phi])
+    fr = np.tile(radius, 3)
+    cp = np.tile(t["cp"], 3)
+    tx, tphi = _tap_rows(ctx, _need(spec, "taps", "the tap table"))
+    stations = np.unique(tx)
+    skip = int(spec.get("exclude_pole_stations", 2))
+    excluded = set(stations[:skip]) | set(stations[len(stations) - skip:]) if skip > 0 else set()
+    order = np.argsort(t["x"])
+    keep, values = [], []
+    for i, (x0, p0) in enumerate(zip(tx, np.radians(tphi))):
+        if x0 in excluded:
+            continue
+        r0 = float(np.interp(x0 * length, t["x"][order], radius[order] * length)) / length
+        dx = fx - x0
+        ds = 0.5 * (fr + r0) * (fphi - p0)  # arc length about the axis, in units of L
+        d2 = dx * dx + ds * ds
+        chosen = []
+        for qx in (dx >= 0.0, dx < 0.0):
+            for qs in (ds >= 0.0, ds < 0.0):
+                quadrant = np.nonzero(qx & qs)[0]
+                if quadrant.size < 2:
+                    raise HarnessError(f"surface_taps: too few faces around the tap x/L = {x0}, phi = {np.degrees(p0):g}")
+                chosen.extend(quadrant[np.argsort(d2[quadrant])[:2]])
+        near = np.array(chosen)
+        a = np.column_stack([np.ones(near.size), dx[near], ds[near]])
+        coef, *_ = np.linalg.lstsq(a, cp[near], rcond=None)
+        keep.append(i)
+        values.append(coef[0])
+    if not keep:
+        raise HarnessError("surface_taps: every tap was excluded")
+    return Curve(np.array(keep, dtype=float), np.array(values), "Cp at the taps")
+
+
+@extractor("body_loads", "group", "quantity", "angle_of_attack", "absolute")
+def body_loads(ctx, spec, run_id):
+    """A load coefficient of run.json's forces.<group>: the body axes of NUMERICS §0.1
+    (X, Y, Z, K, M, N: forward, starboard, down; the nose at -x of the grid), or the
+    wind axes of the pitch plane at the run's angle of attack: drag along the free
+    stream, lift normal to it (positive up, against z). `absolute`: the magnitude."""
+    import json
+    import math
+    with open(ctx.run_dir(run_id) / "run.json") as f:
+        forces = json.load(f)["forces"]
+    group = spec.get("group", "body")
+    if group not in forces:
+        raise HarnessError(f"run.json of '{run_id}' has no force group '{group}' (groups: {', '.join(forces)})")
+    b = forces[group]["body_axes"]
+    q = spec.get("quantity", "drag")
+    if q in b:
+        value = b[q]
+    elif q in ("drag", "lift"):
+        a = math.radians(float(ctx.resolve(run_id, spec.get("angle_of_attack", "input:flow.angle_of_attack"))))
+        # free stream in body axes: (-cos a, 0, -sin a) (the body moves at (cos a, 0, sin a))
+        value = -(b["X"] * math.cos(a) + b["Z"] * math.sin(a)) if q == "drag" else b["X"] * math.sin(a) - b["Z"] * math.cos(a)
+    else:
+        raise HarnessError(f"body_loads: quantity must be one of X, Y, Z, K, M, N, drag, lift; got {q!r}")
+    return abs(value) if spec.get("absolute", False) else value

@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from . import exact
-from . import body  # noqa: F401  (registers recirculation_length)
+from . import body  # noqa: F401  (registers recirculation_length, surface_taps)
 from . import duct  # noqa: F401  (registers duct_flow)
 from .compare import Curve, Family
 from .errors import HarnessError

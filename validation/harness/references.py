@@ -1,6 +1,8 @@
 """Reference values and curves, always read from files under reference_data/."""
 import math
 
+import numpy as np
+
 from .compare import Curve
 from .errors import HarnessError
 from .reference import ReferenceFile
@@ -11,6 +13,16 @@ def _blasius_eta_minus_f(ref):
     return float(eta[-1] - f[-1])  # f ~ eta - delta1 coefficient far outside the layer
 
 
+def _munk_moment(ref, p):
+    rows = ref.rows_where({"AR_a_over_b": p["ratio"]})
+    if len(rows) != 1:
+        raise HarnessError(f"munk_moment: {len(rows)} rows of aspect ratio {p['ratio']}, expected one")
+    k1, k2 = float(ref.column("k1_axial", rows)[0]), float(ref.column("k2_lateral", rows)[0])
+    volume = math.pi * p["length"] ** 3 / (6.0 * p["ratio"] ** 2)
+    a = math.radians(p["alpha_deg"])
+    return 2.0 * (k2 - k1) * volume * math.sin(a) * math.cos(a) / (p["area_ref"] * p["length_ref"])
+
+
 DERIVED = {
     # Cf(x) = 2 f''(0) / sqrt(Re x)
     "blasius_cf": lambda ref, p: (lambda x, c=2.0 * float(ref.column("fpp")[0]), re=p["reynolds"]:
@@ -19,6 +31,10 @@ DERIVED = {
     "blasius_drag": lambda ref, p: 4.0 * float(ref.column("fpp")[0]) / math.sqrt(p["reynolds"]),
     # delta*(x) = lim(eta - f) x / sqrt(Re x)
     "blasius_delta_star": lambda ref, p: _blasius_eta_minus_f(ref) * p["x"] / math.sqrt(p["reynolds"] * p["x"]),
+    # Munk moment of a prolate spheroid at incidence, nose up, as the solver's moment
+    # coefficient 2 M / (A_ref L_ref): M = (k2 - k1) V sin a cos a (rho U^2 L^3 units), the
+    # k's from the row of the body's aspect ratio, V = pi L^3 / (6 ratio^2).
+    "munk_moment": lambda ref, p: _munk_moment(ref, p),
     # u/U_e = f'(eta)
     "blasius_profile": lambda ref, p: Curve(ref.column("eta"), ref.column("fp"), "Blasius f'(eta)"),
 }
@@ -43,7 +59,11 @@ def resolve_reference(ctx, spec, root, run_id_for_inputs=None):
         return ref.header_value(spec["header"]), desc
     if "x" in spec and "y" in spec:
         rows = ref.rows_where(spec["where"]) if "where" in spec else None
-        return Curve(ref.column(spec["x"], rows), ref.column(spec["y"], rows), spec["y"]), desc
+        y = ref.column(spec["y"], rows)
+        # x = "#row": the rows' order numbers, for tables of points (pressure taps) that
+        # an extractor enumerates the same way (body.surface_taps).
+        x = np.arange(y.size, dtype=float) if spec["x"] == "#row" else ref.column(spec["x"], rows)
+        return Curve(x, y, spec["y"]), desc
     if "column" in spec:
         col = ref.column(spec["column"], ref.rows_where(spec["where"]) if "where" in spec else None)
         if "where" in spec and col.size != 1:

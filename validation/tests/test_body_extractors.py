@@ -1,0 +1,108 @@
+"""Body extractors on hand-made surfaces and loads: taps of a linear Cp field are exact,
+the wind axes follow the angle of attack, the Munk moment follows Lamb's table."""
+import json
+import math
+import tempfile
+import unittest
+from pathlib import Path
+
+import support  # noqa: F401
+import numpy as np
+
+from harness.compare import compare
+from harness.extract import EXTRACT
+from harness.reference import ReferenceFile
+from harness.references import DERIVED, resolve_reference
+
+REFERENCE_ROOT = support.ROOT / "reference_data"
+TAPS = "spheroid/prolate_spheroid_6to1_potential_flow_cp.csv"
+
+
+class Ctx:
+    reference_root = REFERENCE_ROOT
+
+    def __init__(self, directory, alpha=0.0):
+        self.directory, self.alpha = Path(directory), alpha
+
+    def run_dir(self, run_id):
+        return self.directory / run_id
+
+    def resolve(self, run_id, value):
+        return self.alpha if isinstance(value, str) and value.startswith("input:") else value
+
+
+def write_surface(path, cp_of):
+    """Faces of a 6:1 spheroid of length 1 on a fine (x, phi) lattice, Cp = cp_of(x, phi)."""
+    rows = ["# hand-made surface", "x,y,z,nx,ny,nz,area,cp,cf_x,cf_y,cf_z,cf_signed,y_plus"]
+    for x in np.linspace(0.002, 0.998, 400):
+        r = math.sqrt(max(0.0, 1.0 - (2 * x - 1) ** 2)) / 12.0
+        for p in np.radians(np.arange(1.25, 360.0, 2.5)):
+            y, z = -r * math.sin(p), r * math.cos(p)  # phi from +z (windward)
+            rows.append(f"{x},{y},{z},0,0,0,1,{cp_of(x, math.degrees(min(p, 2 * math.pi - p)))},0,0,0,0,0")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("\n".join(rows) + "\n")
+
+
+class SurfaceTaps(unittest.TestCase):
+    def test_a_field_linear_in_x_and_arc_is_reproduced_at_every_tap(self):
+        with tempfile.TemporaryDirectory() as d:
+            write_surface(Path(d) / "run" / "surface_body.csv", lambda x, phi: 0.3 - 0.5 * x + 0.001 * phi)
+            fn = EXTRACT["surface_taps"][0]
+            curve = fn(Ctx(d), {"taps": {"file": TAPS, "where": {"alpha_deg": 10.0}}, "exclude_pole_stations": 2}, "run")
+            ref = ReferenceFile(REFERENCE_ROOT, TAPS)
+            rows = ref.rows_where({"alpha_deg": 10.0})
+            x, phi = ref.column("x_over_L", rows), ref.column("phi_deg", rows)
+            kept = curve.x.astype(int)
+            self.assertEqual(len(set(x[kept])), len(set(x)) - 4)  # two stations off each end
+            # linear in the arc r phi, not in phi: compare where r is nearly constant over the fit
+            expected = 0.3 - 0.5 * x[kept] + 0.001 * phi[kept]
+            self.assertLess(np.max(np.abs(curve.y - expected)), 2e-3)
+
+    def test_row_numbered_reference_lines_up_with_the_taps(self):
+        ref, _ = resolve_reference(None, {"file": TAPS, "where": {"alpha_deg": 0.0}, "x": "#row", "y": "Cp"},
+                                   REFERENCE_ROOT)
+        self.assertEqual(ref.x[0], 0.0)
+        self.assertEqual(ref.x[-1], ref.x.size - 1)
+        with tempfile.TemporaryDirectory() as d:
+            cp = ReferenceFile(REFERENCE_ROOT, TAPS)
+            write_surface(Path(d) / "run" / "surface_body.csv", lambda x, phi: 0.0)
+            curve = EXTRACT["surface_taps"][0](Ctx(d), {"taps": {"file": TAPS, "where": {"alpha_deg": 0.0}}}, "run")
+            result = compare("profile_max", curve, ref, 0.02, {"relative": False})
+            rows = cp.rows_where({"alpha_deg": 0.0})
+            worst = float(np.max(np.abs(cp.column("Cp", rows)[curve.x.astype(int)])))
+            self.assertAlmostEqual(result["delta"], worst)  # zero Cp misses the exact one by all of it
+            self.assertFalse(result["pass"])
+
+
+class BodyLoads(unittest.TestCase):
+    def write_run(self, d, body_axes):
+        (Path(d) / "run").mkdir()
+        (Path(d) / "run" / "run.json").write_text(json.dumps({"forces": {"body": {"body_axes": body_axes}}}))
+
+    def test_drag_and_lift_rotate_with_the_angle_of_attack(self):
+        a = math.radians(10.0)
+        # a pure drag D and lift L (up) at alpha, in body axes (x forward, z down)
+        d_, l_ = 0.3, 0.7
+        body = {"X": -d_ * math.cos(a) + l_ * math.sin(a), "Y": 0.0, "Z": -d_ * math.sin(a) - l_ * math.cos(a),
+                "K": 0.0, "M": 0.1, "N": 0.0}
+        with tempfile.TemporaryDirectory() as d:
+            self.write_run(d, body)
+            fn = EXTRACT["body_loads"][0]
+            self.assertAlmostEqual(fn(Ctx(d, 10.0), {"quantity": "drag"}, "run"), d_)
+            self.assertAlmostEqual(fn(Ctx(d, 10.0), {"quantity": "lift"}, "run"), l_)
+            self.assertAlmostEqual(fn(Ctx(d, 10.0), {"quantity": "M"}, "run"), 0.1)
+            self.assertAlmostEqual(fn(Ctx(d, 10.0), {"quantity": "Z", "absolute": True}, "run"), abs(body["Z"]))
+
+
+class MunkMoment(unittest.TestCase):
+    def test_lamb_row_of_the_aspect_ratio(self):
+        ref = ReferenceFile(REFERENCE_ROOT, "spheroid/spheroid_added_mass_lamb.csv")
+        value = DERIVED["munk_moment"](ref, {"ratio": 6.0, "length": 1.0, "alpha_deg": 10.0, "area_ref": 2.0,
+                                             "length_ref": 1.0})
+        volume = math.pi / 216.0
+        k = 0.917123420393 - 0.045182893471
+        self.assertAlmostEqual(value, k * volume * math.sin(math.radians(10)) * math.cos(math.radians(10)), places=12)
+
+
+if __name__ == "__main__":
+    unittest.main()
