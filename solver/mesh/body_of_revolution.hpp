@@ -17,14 +17,10 @@
 // radial at mid-length, aft at the tail), so that the outer boundary is roughly a
 // sphere `far_field` body lengths out.
 //
-// The squares' edges are C0 interfaces: the sectors' meridians meet a square's
-// straight grid lines at up to 45 degrees (at its corners; 0 at an edge's middle).
-// The index-space MUSCL reconstruction (NUMERICS §3.7) is first order across such a
-// kink (an O(1) truncation error in the cells next to it), so the error from the
-// squares' edges converges at first order and shows once the rest is small: on the
-// manufactured solution (rung mms_bodies) squares 0.68 D across on a sphere gave
-// orders falling 1.7, 1.5, 1.3, squares 0.18 D across 2.3 to 2.8. Keep the squares
-// small (pole_spacing) until the lines leave the squares smoothly.
+// The squares' edges are C0 interfaces: the sectors' meridians meet a square's grid
+// lines at up to 45 degrees. The index-space MUSCL reconstruction (NUMERICS §3.7) is
+// first order across such a kink, so keep the squares small (pole_spacing) until the
+// lines leave the squares smoothly (DESIGN.md has the measurements and the plan).
 //
 // Coordinates: the axis is x, the nose at x = 0 and the tail at x = L; azimuth phi
 // runs from +y towards +z. Patch labels: "body" (every block's kmin) and "farfield"
