@@ -19,6 +19,7 @@
 #include "io/monitors.hpp"
 #include "io/output_directory.hpp"
 #include "io/text_file.hpp"
+#include "motion/grid_axes.hpp"
 #include "io/restart.hpp"
 #include "parallel/communicator.hpp"
 #include "parallel/distribution.hpp"
@@ -115,10 +116,10 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
     f[name] = coefficients(fc.force, fc.moment);
     f[name]["pressure"] = coefficients(fc.pressure_force, fc.pressure_moment);
     f[name]["friction"] = coefficients(fc.friction_force(), fc.friction_moment());
-    // Body axes of NUMERICS §0.1 for a body whose nose points to -x of the grid
-    // (x_B = -x, y_B = -y, z_B = z): X, Y, Z and the roll, pitch and yaw moments K, M, N.
-    f[name]["body_axes"] = {{"X", -fc.force[0]},  {"Y", -fc.force[1]},  {"Z", fc.force[2]},
-                            {"K", -fc.moment[0]}, {"M", -fc.moment[1]}, {"N", fc.moment[2]}};
+    // X, Y, Z and the roll, pitch and yaw moments K, M, N (motion/grid_axes.hpp).
+    const Vec3 force = grid_to_body_axes(fc.force), moment = grid_to_body_axes(fc.moment);
+    f[name]["body_axes"] = {{"X", force[0]},  {"Y", force[1]},  {"Z", force[2]},
+                            {"K", moment[0]}, {"M", moment[1]}, {"N", moment[2]}};
   }
   j["forces"] = f;
   j["provenance"] = {{"version", kVersion}, {"git_sha", kGitSha}, {"compiler", kCompiler}, {"flags", kBuildFlags}};

@@ -9,7 +9,9 @@
 #include "core/error.hpp"
 #include "io/cgns_reader.hpp"
 #include "mesh/connectivity.hpp"
+#include "mesh/grid_quality.hpp"
 #include "mesh/plot3d.hpp"
+#include "motion/grid_axes.hpp"
 #include "multigrid/coarsen.hpp"
 #include "parallel/partition.hpp"
 
@@ -45,16 +47,14 @@ PatchBc parse_bc_type(const ConfigReader& r, const std::string& key) {
                    "pairs)");
 }
 
-// The unit free stream from flow.angle_of_attack and flow.drift_angle (degrees),
-// for bodies whose nose points to -x of the grid: body axes (NUMERICS §0.1) x_B = -x,
-// y_B = -y, z_B = z (down). The body moves at U (cos a cos b, -sin b, sin a cos b)
-// in its own axes (a = atan(w/u), b = -asin(v/U)); the fluid passes it at minus that.
+// The unit free stream from flow.angle_of_attack and flow.drift_angle (degrees), for
+// a body whose nose points to -x of the grid (motion/grid_axes.hpp).
 Vec3 free_stream_direction(const ConfigReader& r) {
   const Real deg = M_PI / 180.0;
   const Real a = deg * r.number_or("flow.angle_of_attack", 0.0, "the angle of attack in degrees",
                                    Range::between(-90, 90));
   const Real b = deg * r.number_or("flow.drift_angle", 0.0, "the drift angle in degrees", Range::between(-90, 90));
-  return {std::cos(a) * std::cos(b), -std::sin(b), -std::sin(a) * std::cos(b)};
+  return free_stream_in_grid_axes(a, b);
 }
 
 void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g) {
@@ -113,15 +113,17 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
     }
   } else if (g.type == "body_of_revolution") {
     auto& b = g.body;
-    const std::string body = r.string("grid.body", "the body: sphere or spheroid");
+    const std::string body = r.string("grid.body", "the body: sphere, spheroid or suboff");
     const Real length = r.number_or("grid.length", 1.0, "the body length (sphere: its diameter)", Range::positive());
     if (body == "sphere") {
       b.profile = sphere_profile(length);
     } else if (body == "spheroid") {
       b.profile = spheroid_profile(length, r.number("grid.ratio", "the spheroid's length-to-diameter ratio",
                                                     Range::at_least(1.0)));
+    } else if (body == "suboff") {
+      b.profile = suboff_profile(length);
     } else {
-      r.error("grid.body", "expected \"sphere\" or \"spheroid\", got '" + body + "'");
+      r.error("grid.body", "expected \"sphere\", \"spheroid\" or \"suboff\", got '" + body + "'");
     }
     b.cells_along = r.integer_or("grid.cells_along", b.cells_along, "cells along a meridian between the pole squares",
                                  kCellCount);
@@ -133,8 +135,21 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
                                   kCellCount);
     b.far_field = r.number_or("grid.far_field", b.far_field, "the far-field distance in body lengths",
                               Range::at_least(1.0));
-    b.first_spacing = r.number_or("grid.first_spacing", b.first_spacing, "the first wall-normal spacing",
-                                  Range{0.0, b.far_field * length / b.cells_normal, true, false});
+    if (r.has("grid.first_spacing_yplus")) {
+      if (r.has("grid.first_spacing"))
+        r.error("grid.first_spacing_yplus", "give either grid.first_spacing or grid.first_spacing_yplus, not both");
+      // Spacing for a target y+ of the first cell centre (half the spacing), from the
+      // flat-plate friction at the body's Reynolds number: the estimate the quality
+      // report uses for its y+.
+      const Real y_plus = r.number("grid.first_spacing_yplus", "the target y+ of the wall cells' centres",
+                                   Range::between(0.01, 300));
+      const Real re = r.number("flow.reynolds", "Re = U L / nu", Range::positive());
+      const Real friction_velocity = std::sqrt(0.5 * flat_plate_friction_estimate(re * length));
+      b.first_spacing = 2.0 * y_plus / (re * friction_velocity);
+    } else {
+      b.first_spacing = r.number_or("grid.first_spacing", b.first_spacing, "the first wall-normal spacing",
+                                    Range{0.0, b.far_field * length / b.cells_normal, true, false});
+    }
     b.pole_spacing = r.number_or("grid.pole_spacing", 0.0,
                                  "the meridional spacing at nose and tail (0: a quarter of the mean)",
                                  Range::between(0.0, length / b.cells_along));

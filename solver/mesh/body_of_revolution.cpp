@@ -23,6 +23,41 @@ BodyProfile spheroid_profile(Real length, Real ratio) {
           }};
 }
 
+// Groves, Huang & Chang (1989), DTRC/SHD-1298-01, Table 1 (reference_data/suboff/
+// suboff_geometry.md §2): the hull in model feet, x aft of the nose. The constants are
+// the report's; the profile is scaled so that the overall length is `length`.
+BodyProfile suboff_profile(Real length) {
+  constexpr Real overall = 14.291667, r_max = 5.0 / 6.0;
+  constexpr Real bow_end = 3.333333, after_start = 10.645833, aft_perpendicular = 13.979167;
+  return {"suboff", length, [length](Real x_scaled) {
+            const Real x = x_scaled / length * overall;
+            Real r = 0.0;
+            if (x <= bow_end) {
+              const Real a = 0.3 * x - 1.0, a3 = a * a * a, a4 = a3 * a;
+              const Real bracket = 1.126395101 * x * a4 + 0.442874707 * x * x * a3 + 1.0 - a4 * (1.2 * x + 1.0);
+              r = r_max * std::pow(std::max(0.0, bracket), 1.0 / 2.1);
+            } else if (x <= after_start) {
+              r = r_max;
+            } else if (x <= aft_perpendicular) {
+              constexpr Real rh = 0.1175, k0 = 10.0, k1 = 44.6244;
+              const Real xi = (aft_perpendicular - x) / 3.333333;
+              const Real xi2 = xi * xi, xi3 = xi2 * xi, xi4 = xi3 * xi, xi5 = xi4 * xi, xi6 = xi5 * xi;
+              const Real bracket = rh * rh + rh * k0 * xi2 + (20.0 - 20.0 * rh * rh - 4.0 * rh * k0 - k1 / 3.0) * xi3 +
+                                   (-45.0 + 45.0 * rh * rh + 6.0 * rh * k0 + k1) * xi4 +
+                                   (36.0 - 36.0 * rh * rh - 4.0 * rh * k0 - k1) * xi5 +
+                                   (-10.0 + 10.0 * rh * rh + rh * k0 + k1 / 3.0) * xi6;
+              r = r_max * std::sqrt(std::max(0.0, bracket));
+            } else {
+              // The cap: an ellipse of semi-axis 0.3125 ft centred on the aft perpendicular
+              // (the report's 3.2 x - 44.733333, written so that it closes exactly at the
+              // overall length: the printed constants leave -2.8e-6 at the tip).
+              const Real u = (x - aft_perpendicular) / (overall - aft_perpendicular);
+              r = 0.1175 * r_max * std::sqrt(std::max(0.0, 1.0 - u * u));
+            }
+            return r / overall * length;
+          }};
+}
+
 namespace {
 
 constexpr Real kPi = std::numbers::pi;
@@ -58,27 +93,74 @@ class Meridian {
       tx_[m] = m == 0 || m == n ? 0.0 : dx / norm;
       tr_[m] = dr / norm;
     }
+    // N(s) = integral of the normal (-dr/ds, dx/ds) from the nose, by the trapezoidal rule.
+    nx_int_.assign(n + 1, 0.0);
+    nr_int_.assign(n + 1, 0.0);
+    for (int m = 1; m <= n; ++m) {
+      const Real ds = s_[m] - s_[m - 1];
+      nx_int_[m] = nx_int_[m - 1] - 0.5 * ds * (tr_[m] + tr_[m - 1]);
+      nr_int_[m] = nr_int_[m - 1] + 0.5 * ds * (tx_[m] + tx_[m - 1]);
+    }
   }
   Real length() const { return s_.back(); }
 
+  // The meridian's outward unit normal (n_x, n_r) averaged over arc lengths
+  // [s - a, s + a], the meridian continued through each pole onto the opposite one
+  // (n_r changes sign there, so the mean at a pole is along the axis).
+  std::array<Real, 2> averaged_normal(Real s, Real a) const {
+    if (a <= 0.0) {
+      const auto [x, r, tx, tr] = at(s);
+      return {-tr, tx};
+    }
+    const auto lo = normal_integral(s - a), hi = normal_integral(s + a);
+    const Real nx = hi[0] - lo[0], nr = hi[1] - lo[1], norm = std::hypot(nx, nr);
+    return {nx / norm, nr / norm};
+  }
+
   // (x, r, dx/ds, dr/ds) at arc length s.
   std::array<Real, 4> at(Real s) const {
-    s = std::clamp(s, 0.0, length());
-    const auto it = std::upper_bound(s_.begin(), s_.end(), s);
-    const std::size_t m = std::min<std::size_t>(std::max<std::ptrdiff_t>(it - s_.begin(), 1), s_.size() - 1);
-    const Real w = (s - s_[m - 1]) / (s_[m] - s_[m - 1]);
+    const auto [m, w] = locate(s);
     auto mix = [&](const std::vector<Real>& v) { return v[m - 1] + w * (v[m] - v[m - 1]); };
     const Real tx = mix(tx_), tr = mix(tr_), norm = std::hypot(tx, tr);
     return {mix(x_), mix(r_), tx / norm, tr / norm};
   }
 
  private:
-  std::vector<Real> x_, r_, s_, tx_, tr_;
+  // The sample interval [m - 1, m] holding s, and the weight of sample m.
+  std::pair<std::size_t, Real> locate(Real s) const {
+    s = std::clamp(s, 0.0, length());
+    const auto it = std::upper_bound(s_.begin(), s_.end(), s);
+    const std::size_t m = std::min<std::size_t>(std::max<std::ptrdiff_t>(it - s_.begin(), 1), s_.size() - 1);
+    const Real ds = s_[m] - s_[m - 1];
+    return {m, ds > 0.0 ? (s - s_[m - 1]) / ds : 0.0};
+  }
+  // N(s) for -S <= s <= 2 S: beyond a pole the opposite meridian, mirrored in r.
+  std::array<Real, 2> normal_integral(Real s) const {
+    const Real S = length();
+    auto inside = [&](Real u) {
+      const auto [m, w] = locate(u);
+      return std::array<Real, 2>{nx_int_[m - 1] + w * (nx_int_[m] - nx_int_[m - 1]),
+                                 nr_int_[m - 1] + w * (nr_int_[m] - nr_int_[m - 1])};
+    };
+    if (s < 0.0) {
+      const auto f = inside(std::min(-s, S));
+      return {-f[0], f[1]};
+    }
+    if (s > S) {
+      const auto total = inside(S), back = inside(std::max(2.0 * S - s, 0.0));
+      return {total[0] + (total[0] - back[0]), total[1] - (total[1] - back[1])};
+    }
+    return inside(s);
+  }
+
+  std::vector<Real> x_, r_, s_, tx_, tr_, nx_int_, nr_int_;
 };
 
 struct SurfacePoint {
-  Vec3 x, n;  // position and outward unit normal
-  Vec3 far;   // the direction the wall line takes far out (polar angle pi s / S)
+  Vec3 x;                    // position
+  Real s;                    // arc length from the nose
+  std::array<Real, 2> dir;   // azimuth (cos phi, sin phi)
+  Vec3 far;                  // the direction the wall line takes far out (polar angle pi s / S)
 };
 
 // The surface point at arc length s from the nose and azimuth (cos phi, sin phi).
@@ -86,8 +168,7 @@ SurfacePoint surface(const Meridian& m, Real s, const std::array<Real, 2>& dir) 
   const auto [x, r, tx, tr] = m.at(s);
   const auto [c, sn] = dir;
   const Real theta = kPi * std::clamp(s / m.length(), 0.0, 1.0);
-  return {Vec3(x, r * c, r * sn), Vec3(-tr, tx * c, tx * sn).normalized(),
-          Vec3(-std::cos(theta), std::sin(theta) * c, std::sin(theta) * sn)};
+  return {Vec3(x, r * c, r * sn), s, dir, Vec3(-std::cos(theta), std::sin(theta) * c, std::sin(theta) * sn)};
 }
 
 // The point of polar-projection coordinates (X, Y) around the nose (tail = false) or
@@ -128,24 +209,33 @@ Real smoothstep(Real t) {
   return t * t * (3.0 - 2.0 * t);
 }
 
-// The wall-normal lines: from the surface point along its normal, turning over half
-// a body length towards the direction of polar angle pi s / S (s the arc length from
-// the nose, S the meridian's): forward from the nose, radial at mid-length, aft from
-// the tail. Monotone along the meridian, so lines from a slender body's nose do not
-// cross (rays from the centre did: a 6:1 spheroid folded).
+// The wall lines. At distance d from the wall a line's direction is the body normal
+// averaged over the arc lengths within d of its foot, turned over half a body length
+// towards the direction of polar angle pi s / S (s the arc length from the nose, S the
+// meridian's): forward from the nose, radial at mid-length, aft from the tail.
+// - At the wall the average is the normal itself: the lines leave orthogonally.
+// - Exact normals cross at the radius of curvature of a concave stretch (SUBOFF's
+//   afterbody before its cap, about 0.09 L); their average over a window growing with
+//   d turns by at most half the stretch's total turning, so neighbours cannot meet.
+// - Monotone along the meridian, so lines from a slender nose do not cross (rays
+//   from the centre did: a 6:1 spheroid folded).
 class Extrusion {
  public:
-  Extrusion(const BodyGridSpec& s, Real length)
-      : blend_(0.5 * length),
+  Extrusion(const BodyGridSpec& s, const Meridian& m, Real length)
+      : meridian_(m),
+        blend_(0.5 * length),
         d_(geometric_nodes(0.0, s.far_field * length, s.cells_normal, s.first_spacing)) {}
   int cells() const { return static_cast<int>(d_.size()) - 1; }
   Vec3 node(const SurfacePoint& p, int k) const {
     const Real d = d_[static_cast<std::size_t>(k)];
     const Real w = smoothstep(d / blend_);
-    return p.x + d * ((1.0 - w) * p.n + w * p.far).normalized();
+    const auto [nx, nr] = meridian_.averaged_normal(p.s, std::min(d, meridian_.length()));
+    const Vec3 n(nx, nr * p.dir[0], nr * p.dir[1]);
+    return p.x + d * ((1.0 - w) * n + w * p.far).normalized();
   }
 
  private:
+  const Meridian& meridian_;
   Real blend_;
   std::vector<Real> d_;
 };
@@ -181,7 +271,7 @@ Grid make_body_of_revolution(const BodyGridSpec& spec) {
   // takes them over its own length between the two squares.
   const Real inner = S - 2.0 * rho;
   const std::vector<Real> f = geometric_nodes_both_ends(0.0, 1.0, nl, std::min(pole_ds / inner, 1.0 / nl));
-  const Extrusion ex(spec, L);
+  const Extrusion ex(spec, m, L);
   const int nk = ex.cells();
 
   const Azimuth az{na};

@@ -1,5 +1,5 @@
 #pragma once
-// Grids around a body of revolution (sphere, prolate spheroid, a table of offsets):
+// Grids around a body of revolution (sphere, prolate spheroid, the SUBOFF hull):
 // six blocks with no singular axis.
 //
 // Topology ("butterfly" O-O, the cubed sphere's): on the body surface, a small
@@ -44,6 +44,8 @@ struct BodyProfile {
 BodyProfile sphere_profile(Real diameter);
 // Prolate spheroid of the given length and length-to-diameter ratio.
 BodyProfile spheroid_profile(Real length, Real ratio);
+// The DARPA SUBOFF axisymmetric hull (DTRC models 5470/5471) of the given overall length.
+BodyProfile suboff_profile(Real length);
 
 struct BodyGridSpec {
   BodyProfile profile;

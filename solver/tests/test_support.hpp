@@ -41,7 +41,7 @@ inline void write_text(const std::string& path, const std::string& text) {
   if (!out) throw std::runtime_error("cannot write " + path);
 }
 
-// Columns of a CSV file with '#' comment lines and one header row.
+// Columns of a CSV file with '#' comment lines and one header row (text cells read as NaN).
 inline std::map<std::string, std::vector<double>> read_csv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot open " + path);
@@ -56,7 +56,11 @@ inline std::map<std::string, std::vector<double>> read_csv(const std::string& pa
       while (std::getline(ss, cell, ',')) names.push_back(cell);
       continue;
     }
-    for (std::size_t c = 0; std::getline(ss, cell, ','); ++c) cols[names.at(c)].push_back(std::stod(cell));
+    for (std::size_t c = 0; std::getline(ss, cell, ','); ++c) {
+      char* end = nullptr;
+      const double v = std::strtod(cell.c_str(), &end);
+      cols[names.at(c)].push_back(end != cell.c_str() ? v : std::nan(""));  // text columns: NaN
+    }
   }
   return cols;
 }

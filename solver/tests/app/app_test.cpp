@@ -12,6 +12,7 @@
 #include "app/driver.hpp"
 #include "io/restart.hpp"
 #include "mesh/plot3d.hpp"
+#include "mesh/grid_quality.hpp"
 #include "test_support.hpp"
 
 namespace narwhal {
@@ -151,6 +152,19 @@ TEST(CaseFreeStream, AnglesSetTheFreeStreamAndConflictWithAnExplicitVelocity) {
   const std::string e = error_of(replace(text, "[flow]", "[flow]\nangle_of_attack = 5.0"), "s.toml");
   EXPECT_NE(e.find("bc.farfield.velocity"), std::string::npos) << e;
   EXPECT_NE(e.find("flow.angle_of_attack"), std::string::npos) << e;
+}
+
+// grid.first_spacing_yplus sets the wall spacing from the Reynolds number, so that
+// the quality report's y+ estimate of the wall cells' centres is the target; it
+// conflicts with an explicit grid.first_spacing.
+TEST(BodyGridKeys, FirstSpacingFromTargetYPlus) {
+  const std::string text = test::read_text(test::source_path("validation/cases/sphere_laminar/sphere.toml"));
+  const std::string by_yplus = replace(text, "first_spacing = 0.0025", "first_spacing_yplus = 0.8");
+  const CaseConfig c = parse_case(by_yplus, "s.toml", ".", {"flow.reynolds=1.0e7", "grid.body=\"suboff\""});
+  const Real friction_velocity = std::sqrt(0.5 * flat_plate_friction_estimate(1.0e7));
+  EXPECT_NEAR(c.grid.body.first_spacing * 1.0e7 * friction_velocity / 2.0, 0.8, 1e-12);
+  const std::string e = error_of(replace(text, "first_spacing = 0.0025", "first_spacing = 0.0025\nfirst_spacing_yplus = 1.0"));
+  EXPECT_NE(e.find("grid.first_spacing_yplus"), std::string::npos) << e;
 }
 
 // A slip wall is a symmetry condition whose faces belong to the body: surface output

@@ -59,7 +59,7 @@ Real free_stream_residual(Grid& g) {
 }
 
 TEST(BodyOfRevolution, SixBlocksJoinedOneToOneWithNoDegenerateFace) {
-  for (const BodyProfile& p : {sphere_profile(1.0), spheroid_profile(1.0, 6.0)}) {
+  for (const BodyProfile& p : {sphere_profile(1.0), spheroid_profile(1.0, 6.0), suboff_profile(1.0)}) {
     const Grid g = finalized(small_spec(p), BcType::Dirichlet);
     ASSERT_EQ(g.blocks.size(), 6u) << p.name;
     // Sector to sector (4 faces) and square to sector (8), each seen from both sides.
@@ -93,7 +93,7 @@ TEST(BodyOfRevolution, SlenderSpheroidAtWorkingResolutionHasNoFoldedCell) {
 }
 
 TEST(BodyOfRevolution, WallNodesLieOnTheBodyAndTheOuterBoundaryIsFarAway) {
-  for (const BodyProfile& p : {sphere_profile(1.0), spheroid_profile(2.0, 6.0)}) {
+  for (const BodyProfile& p : {sphere_profile(1.0), spheroid_profile(2.0, 6.0), suboff_profile(4.356)}) {
     const BodyGridSpec s = small_spec(p);
     const Grid g = make_body_of_revolution(s);
     Real off_body = 0.0, nearest_far = INFINITY;
@@ -137,12 +137,36 @@ TEST(BodyOfRevolution, LinesFromThePolesRunAlongTheAxis) {
 }
 
 TEST(BodyOfRevolution, FreeStreamIsPreservedToRoundOff) {
-  for (const BodyProfile& p : {sphere_profile(1.0), spheroid_profile(1.0, 6.0)}) {
+  for (const BodyProfile& p : {sphere_profile(1.0), spheroid_profile(1.0, 6.0), suboff_profile(1.0)}) {
     Grid g = finalized(small_spec(p), BcType::Dirichlet);
     const Real r = free_stream_residual(g);
     EXPECT_LT(r, 1e-14) << p.name;
     RecordProperty(p.name + "_relative_free_stream_residual", fmt::format("{:.2e}", r));
   }
+}
+
+// The SUBOFF hull against numbers printed in the sources, not computed from the same
+// equations: Groves et al. (1989) Table 7's tap radii (5 decimals, feet) and Roddy
+// (1990) Table 1's bare-hull volume (24.692 cubic feet).
+TEST(SuboffProfile, ReproducesTheTapRadiiAndTheVolume) {
+  constexpr Real overall_ft = 14.291667;
+  const BodyProfile p = suboff_profile(overall_ft);
+  const auto taps = test::read_csv(test::source_path("reference_data/suboff/suboff_hull_pressure_taps_groves1989.csv"));
+  const auto& x = taps.at("x_ft");
+  const auto& r = taps.at("r_ft");
+  ASSERT_GE(x.size(), 15u);
+  for (std::size_t n = 0; n < x.size(); ++n)
+    EXPECT_NEAR(p.radius(x[n]), r[n], 1e-5) << "tap at x = " << x[n] << " ft";  // printed to 5e-6
+  // Volume by the midpoint rule in the cosine-clustered variable (blunt ends).
+  const int n = 200000;
+  Real volume = 0.0;
+  for (int m = 0; m < n; ++m) {
+    const Real t = (m + 0.5) / n, x_t = 0.5 * overall_ft * (1.0 - std::cos(M_PI * t));
+    const Real dx_dt = 0.5 * overall_ft * M_PI * std::sin(M_PI * t);
+    volume += M_PI * std::pow(p.radius(x_t), 2) * dx_dt / n;
+  }
+  EXPECT_NEAR(volume, 24.692, 5e-4 * 24.692);  // Roddy prints 5 digits; the equations give 24.6924
+  RecordProperty("suboff_volume_ft3", fmt::format("{:.5f}", volume));
 }
 
 }  // namespace
