@@ -136,3 +136,58 @@ def body_loads(ctx, spec, run_id):
     else:
         raise HarnessError(f"body_loads: quantity must be one of X, Y, Z, K, M, N, drag, lift; got {q!r}")
     return abs(value) if spec.get("absolute", False) else value
+
+
+@extractor("axial_profile", "group", "y", "length", "stations")
+def axial_profile(ctx, spec, run_id):
+    """A surface column (cp, cf_signed, ...) of an axisymmetric flow against x / L: the
+    wall faces' values averaged over azimuth per axial station of the grid (faces whose
+    x agree to 1e-9 L), then interpolated linearly to the x / L of `stations`, a table
+    under reference_data/ ({file, where, x}) — the points its reference is given at.
+    Stations beyond the end faces (a tap on a pole) are left out."""
+    from .extract import _need, read_csv  # extract imports this module to register it
+    group = spec.get("group", "body")
+    path = ctx.run_dir(run_id) / f"surface_{group}.csv"
+    if not path.exists():
+        raise HarnessError(f"run '{run_id}' wrote no {path.name}")
+    t = read_csv(path)
+    column = _need(spec, "y", "the surface column")
+    if column not in t:
+        raise HarnessError(f"{path.name} has no column '{column}'")
+    length = float(spec.get("length", 1.0))
+    key = np.round(t["x"] / length, 9)
+    xs, inverse = np.unique(key, return_inverse=True)
+    mean = np.bincount(inverse, weights=t[column]) / np.bincount(inverse)
+    st = _need(spec, "stations", "the table of stations {file, where, x}")
+    if not isinstance(st, dict) or "file" not in st or "x" not in st:
+        raise HarnessError("axial_profile: 'stations' needs {file, x} and optionally where")
+    ref = ReferenceFile(ctx.reference_root, st["file"])
+    x0 = ref.column(st["x"], ref.rows_where(st["where"]) if "where" in st else None)
+    # A tap at a pole (x = 0, the stagnation point) lies beyond the first face centre:
+    # left out, and said so in the curve's name, rather than extrapolated.
+    inside = (x0 >= xs[0]) & (x0 <= xs[-1])
+    if not inside.any():
+        raise HarnessError(f"axial_profile: no station inside the wall faces' x / L range [{xs[0]}, {xs[-1]}]")
+    dropped = int((~inside).sum())
+    name = f"{column}(x/L)" + (f", {dropped} station(s) beyond the end faces left out" if dropped else "")
+    return Curve(x0[inside], np.interp(x0[inside], xs, mean), name)
+
+
+@extractor("force_part", "group", "part", "component")
+def force_part(ctx, spec, run_id):
+    """One coefficient of run.json's forces.<group>: its `part` (pressure or friction,
+    or total) and `component` (cfx ... cmz, in grid axes)."""
+    import json
+    with open(ctx.run_dir(run_id) / "run.json") as f:
+        forces = json.load(f)["forces"]
+    group = spec.get("group", "body")
+    if group not in forces:
+        raise HarnessError(f"run.json of '{run_id}' has no force group '{group}' (groups: {', '.join(forces)})")
+    part = spec.get("part", "total")
+    if part not in ("total", "pressure", "friction"):
+        raise HarnessError(f"force_part: part must be total, pressure or friction; got {part!r}")
+    table = forces[group] if part == "total" else forces[group][part]
+    component = spec.get("component", "cfx")
+    if component not in ("cfx", "cfy", "cfz", "cmx", "cmy", "cmz"):
+        raise HarnessError(f"force_part: component must be one of cfx ... cmz; got {component!r}")
+    return float(table[component])

@@ -43,6 +43,17 @@ class Check:
 
 
 @dataclass
+class Reported:
+    """A quantity the rung reports without a reference or a tolerance (no pass or fail):
+    a result the data set has nothing to compare with, such as a resistance at a speed
+    the towing tank's table does not list."""
+    name: str
+    tiers: tuple
+    extract: dict
+    unit: str = ""
+
+
+@dataclass
 class Rung:
     name: str
     title: str
@@ -52,6 +63,7 @@ class Rung:
     runs: list
     checks: list
     plots: list
+    reported: list = field(default_factory=list)
 
 
 class _Reader:
@@ -176,10 +188,23 @@ def load_rung(path):
             raise HarnessError(f"{path}: key 'check[{i}].rationale': must say why the tolerance is what it is")
         r.finish()
         checks.append(c)
+    reported = []
+    for i, t in enumerate(top.get("report", list, "an array of [[report]] tables", default=[])):
+        r = _Reader(path, t, f"report[{i}].")
+        q = Reported(name=r.get("name", str, "a name", required=True),
+                     tiers=_tiers(r, "tiers", tiers, "a list of tiers"),
+                     extract=r.get("extract", dict, "an extractor table", required=True),
+                     unit=r.get("unit", str, "the unit shown", default=""))
+        try:
+            check_extract(q.extract, f"report[{i}].extract")
+        except HarnessError as e:
+            raise HarnessError(f"{path}: {e}")
+        r.finish()
+        reported.append(q)
     plots = top.get("plot", list, "an array of [[plot]] tables", default=[])
     top.finish()
     return Rung(name=path.parent.name, title=title, directory=path.parent, tiers=tiers, timeout_s=timeout,
-                runs=runs, checks=checks, plots=plots)
+                runs=runs, checks=checks, plots=plots, reported=reported)
 
 
 def discover(cases_dir):

@@ -315,6 +315,21 @@ def ratio(ctx, spec, run_id):
     return float(a) / float(b)
 
 
+@extractor("dimensional", "of", "density", "speed", "area")
+def dimensional(ctx, spec, run_id):
+    """A force coefficient (a scalar extraction) in newtons: C 1/2 rho U^2 A, with the
+    density (kg/m^3), speed (m/s) and reference area (m^2) of the model the rung
+    stands for. Over a grid family the inner extraction reads each run in turn."""
+    inner = dict(_need(spec, "of", "the coefficient's extraction"))
+    if run_id:
+        inner["run"] = run_id
+    c = extract(ctx, inner)
+    if isinstance(c, (Curve, Family)):
+        raise HarnessError("dimensional needs a scalar coefficient")
+    q = {k: float(_need(spec, k, f"the model's {k} (SI)")) for k in ("density", "speed", "area")}
+    return float(c) * 0.5 * q["density"] * q["speed"] ** 2 * q["area"]
+
+
 @extractor("curve_difference", "a", "b", "relative")
 def curve_difference(ctx, spec, run_id):
     """Largest |a - b| between two curves sampled at the same points (e.g. Cf of two runs);

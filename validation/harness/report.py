@@ -276,6 +276,12 @@ def _rung_page(rung_dir, res):
             body += f"<pre>{html.escape(c['error'])}</pre>"
         if _plot_check(c, rung_dir / f"check_{i}.png"):
             body += f"<img src='check_{i}.png' alt='{html.escape(c['name'])}'>"
+    if res.get("reported"):
+        body += ("<h2>Reported (no reference, no tolerance)</h2><table><tr><th>quantity</th><th>value</th>"
+                 "<th>unit</th></tr>" + "".join(
+                     f"<tr><td>{html.escape(q['name'])}</td><td class=num>"
+                     f"{_fmt(q['value']) if q.get('value') is not None else html.escape(q.get('error', ''))}</td>"
+                     f"<td>{html.escape(q.get('unit', ''))}</td></tr>" for q in res["reported"]) + "</table>")
     prov = res.get("provenance", {})
     body += "<h2>Provenance</h2><table>" + "".join(
         f"<tr><th>{html.escape(k)}</th><td>{_fmt(v)}</td></tr>" for k, v in prov.items()) + "</table>"

@@ -10,7 +10,7 @@ import tomllib
 import traceback
 from pathlib import Path
 
-from .compare import compare
+from .compare import Curve, Family, compare
 from .errors import HarnessError
 from .extract import Context, extract
 from .references import resolve_reference
@@ -162,12 +162,27 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
                 entry.update({"computed": None, "reference": None, "delta": None, "pass": False, "plot": None,
                               "error": f"internal error: {e}\n{traceback.format_exc()}"})
             result["checks"].append(entry)
+        result["reported"] = [_reported(ctx, q) for q in rung.reported if tier in q.tiers]
         if not result["checks"]:
             result["status"] = "failed"
             result["message"] = f"no check of rung '{rung.name}' belongs to tier '{tier}'"
         elif not all(ch["pass"] for ch in result["checks"]):
             result["status"] = "failed"
     return _finish(result, out_dir, started)
+
+
+def _reported(ctx, q):
+    """A reported quantity's value, or the error that kept it from being extracted
+    (shown in the report; it fails nothing, having no tolerance)."""
+    entry = {"name": q.name, "unit": q.unit, "value": None}
+    try:
+        v = extract(ctx, q.extract)
+        if isinstance(v, (Curve, Family)):
+            raise HarnessError("a reported quantity must be a scalar")
+        entry["value"] = float(v)
+    except HarnessError as e:
+        entry["error"] = str(e)
+    return entry
 
 
 def _finish(result, out_dir, started):

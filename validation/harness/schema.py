@@ -22,7 +22,7 @@ def extractor(kind, *keys):
 
 
 # Extractions whose values are extractions themselves.
-NESTED = {"ratio": ("a", "b"), "curve_difference": ("a", "b")}
+NESTED = {"ratio": ("a", "b"), "curve_difference": ("a", "b"), "dimensional": ("of",)}
 
 REFERENCE = ("file", "derive", "params", "header", "x", "y", "where", "column", "row")
 DNS_REFERENCE = ("file", "where")

@@ -106,3 +106,39 @@ class MunkMoment(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+AFF1 = "suboff/suboff_aff1_fragments_liu_huang1998.csv"
+
+
+class AxialProfileAndNewtons(unittest.TestCase):
+    def test_azimuthal_means_are_interpolated_to_the_stations_and_a_pole_tap_is_left_out(self):
+        with tempfile.TemporaryDirectory() as d:
+            # Cp = x + 0.01 cos(phi): its azimuthal mean is x exactly on the lattice.
+            write_surface(Path(d) / "run" / "surface_body.csv", lambda x, phi: x + 0.01 * math.cos(math.radians(phi)))
+            fn = EXTRACT["axial_profile"][0]
+            stations = {"file": AFF1, "where": {"quantity": "Cp upper meridian"}, "x": "x_over_L"}
+            curve = fn(Ctx(d), {"y": "cp", "stations": stations}, "run")
+            ref = ReferenceFile(REFERENCE_ROOT, AFF1)
+            x = ref.column("x_over_L", ref.rows_where({"quantity": "Cp upper meridian"}))
+            self.assertEqual(curve.x.tolist(), x[1:].tolist())  # the tap at the nose (x = 0) is left out
+            self.assertIn("1 station(s)", curve.label)
+            self.assertLess(np.max(np.abs(curve.y - curve.x)), 1e-8)  # stations grouped to 1e-9 in x
+
+    def test_a_coefficient_in_newtons_and_the_parts_of_a_force(self):
+        with tempfile.TemporaryDirectory() as d:
+            run = Path(d) / "run"
+            run.mkdir()
+            (run / "history.csv").write_text("iteration,body_cfx\n1,0.5\n2,0.002\n")
+            part = {"cfx": 0.0015, "cfy": 0, "cfz": 0, "cmx": 0, "cmy": 0, "cmz": 0}
+            (run / "run.json").write_text(json.dumps({"forces": {"body": {
+                "cfx": 0.002, "pressure": part, "friction": dict(part, cfx=0.0005)}}}))
+            newtons = EXTRACT["dimensional"][0]
+            spec = {"of": {"kind": "history_last", "column": "body_cfx"}, "density": 1000.0, "speed": 3.0, "area": 2.0}
+            self.assertAlmostEqual(newtons(Ctx(d), spec, "run"), 0.002 * 0.5 * 1000.0 * 9.0 * 2.0, places=12)
+            parts = EXTRACT["force_part"][0]
+            self.assertEqual(parts(Ctx(d), {"part": "friction"}, "run"), 0.0005)
+            self.assertEqual(parts(Ctx(d), {"part": "pressure", "component": "cfx"}, "run"), 0.0015)
+            from harness.errors import HarnessError
+            with self.assertRaises(HarnessError):
+                parts(Ctx(d), {"part": "viscous"}, "run")

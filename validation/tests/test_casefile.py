@@ -88,6 +88,16 @@ class RungFiles(unittest.TestCase):
         self.assertEqual(rung.name, "myrung")
         self.assertEqual(rung.checks[0].tiers, ("quick",))
 
+    def test_reported_quantities_load_and_their_keys_are_checked(self):
+        report = ('\n[[report]]\nname = "drag at 10 kn"\nunit = "N"\nextract = { kind = "dimensional", run = "a", '
+                  'of = { kind = "history_last", column = "body_cfx" }, density = 998.1, speed = 5.1, area = 19.0 }\n')
+        rung = load_rung(self.write(GOOD + report))
+        self.assertEqual([(q.name, q.unit, q.tiers) for q in rung.reported], [("drag at 10 kn", "N", ("quick",))])
+        msg = self.error(GOOD + report.replace("column =", "colum ="))
+        self.assertIn("report[0].extract.of.colum", msg)
+        msg = self.error(GOOD + report.replace('unit = "N"', 'units = "N"'))
+        self.assertIn("unknown key 'report[0].units'", msg)
+
     def test_misspelled_key_is_named_with_a_suggestion(self):
         msg = self.error(GOOD.replace("tolerance = 1.0", "tolerence = 1.0\ntolerance = 1.0"))
         self.assertIn("unknown key 'check[0].tolerence'", msg)
