@@ -12,6 +12,7 @@
 #include "app/driver.hpp"
 #include "core/error.hpp"
 #include "io/cgns_writer.hpp"
+#include "io/openfoam_writer.hpp"
 #include "mesh/grid_quality.hpp"
 #include "mesh/plot3d.hpp"
 #include "multigrid/coarsen.hpp"
@@ -59,7 +60,8 @@ int check_case(const std::string& path, const std::vector<std::string>& override
 // `narwhal grid`: the case's grid as the solver would run it (generated or read,
 // coarsened), written as CGNS (with patch labels) and Plot3D, and its quality report.
 // A folded cell is an error, after the files are written so that it can be looked at.
-int grid_case(const std::string& path, const std::vector<std::string>& overrides, const std::string& out_dir) {
+int grid_case(const std::string& path, const std::vector<std::string>& overrides, const std::string& out_dir,
+              const std::string& openfoam_dir) {
   const CaseConfig c = load_case(path, overrides);
   const Grid g = build_grid(c);
   std::filesystem::create_directories(out_dir);
@@ -80,6 +82,11 @@ int grid_case(const std::string& path, const std::vector<std::string>& overrides
   fmt::print("quality (walls: {}; Re = {:g} per unit length):\n{}", walls.empty() ? "none" : fmt::format("{}", fmt::join(walls, ", ")),
              c.flow.reynolds, format_grid_quality(q));
   require_unfolded(q, path);
+  if (!openfoam_dir.empty()) {
+    const OpenFoamMeshCounts n = write_openfoam_mesh(openfoam_dir, g);
+    fmt::print("wrote {}/constant/polyMesh (OpenFOAM): {} points, {} cells, {} faces ({} internal)\n", openfoam_dir,
+               n.points, n.cells, n.faces, n.internal_faces);
+  }
   return 0;
 }
 
@@ -154,6 +161,9 @@ int main(int argc, char** argv) {
   grid->add_option("case", grid_path, "case file (TOML)")->required();
   grid->add_option("--out,-o", grid_out, "output directory")->capture_default_str();
   grid->add_option("--set", overrides, "override a case key (value in TOML syntax)");
+  std::string grid_openfoam;
+  grid->add_option("--openfoam", grid_openfoam,
+                   "also write the grid as an OpenFOAM case's constant/polyMesh under this directory");
 
   auto* list_models = app.add_subcommand("list-models", "list the turbulence models (turbulence.model = \"name\")");
 
@@ -177,7 +187,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*check) return check_case(check_path, overrides);
-    if (*grid) return grid_case(grid_path, overrides, grid_out);
+    if (*grid) return grid_case(grid_path, overrides, grid_out, grid_openfoam);
     if (*partition) return partition_case(partition_path, overrides, ranks);
     RunOptions opt;
     opt.out_dir = out_dir;

@@ -5,10 +5,15 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
 
 #include "app/driver.hpp"
 #include "io/cgns_reader.hpp"
 #include "io/cgns_writer.hpp"
+#include "io/openfoam_writer.hpp"
 #include "mesh/body_of_revolution.hpp"
 #include "mesh/grid_quality.hpp"
 #include "mesh/plot3d.hpp"
@@ -138,6 +143,107 @@ Grid single_box(const std::vector<Real>& xs, const std::vector<Real>& ys, const 
   assign_bc(g, "kmin", {BcType::Wall});
   finalize_grid(g);
   return g;
+}
+
+// The entries of an OpenFOAM list file this writer made: after the header, a count,
+// then one entry per line between "(" and ")".
+std::vector<std::string> foam_entries(const fs::path& p) {
+  std::ifstream in(p);
+  std::string line;
+  while (std::getline(in, line) && line != "(") {
+  }
+  std::vector<std::string> out;
+  while (std::getline(in, line) && line != ")") out.push_back(line);
+  return out;
+}
+
+// The six-block body grid as an OpenFOAM mesh: every cell closed by exactly six faces
+// whose area vectors (oriented out of the cell) sum to zero, the volumes by the
+// divergence theorem equal to Narwhal's, internal faces in upper-triangular order and
+// pointing from owner to neighbour, the wall faces in a `wall` patch.
+TEST(OpenFoamMesh, BodyGridClosesEveryCellAndKeepsTheVolumesAndPatches) {
+  const Grid g = small_body_grid();
+  const fs::path dir = test::fresh_temp_dir("openfoam_mesh");
+  const OpenFoamMeshCounts n = write_openfoam_mesh(dir.string(), g);
+  const fs::path mesh = dir / "constant" / "polyMesh";
+  std::vector<Vec3> points;
+  for (const std::string& e : foam_entries(mesh / "points")) {
+    std::istringstream ss(e.substr(1));
+    Vec3 x;
+    ss >> x[0] >> x[1] >> x[2];
+    points.push_back(x);
+  }
+  std::vector<std::array<int, 4>> faces;
+  for (const std::string& e : foam_entries(mesh / "faces")) {
+    ASSERT_EQ(e.substr(0, 2), "4(");
+    std::istringstream ss(e.substr(2));
+    std::array<int, 4> q{};
+    ss >> q[0] >> q[1] >> q[2] >> q[3];
+    faces.push_back(q);
+  }
+  std::vector<int> owner, neighbour;
+  for (const std::string& e : foam_entries(mesh / "owner")) owner.push_back(std::stoi(e));
+  for (const std::string& e : foam_entries(mesh / "neighbour")) neighbour.push_back(std::stoi(e));
+  ASSERT_EQ(points.size(), n.points);
+  ASSERT_EQ(faces.size(), n.faces);
+  ASSERT_EQ(owner.size(), n.faces);
+  ASSERT_EQ(neighbour.size(), n.internal_faces);
+  ASSERT_EQ(n.cells, g.cells());
+  // Shared nodes are one point each: (nodes of all blocks) minus duplicates.
+  std::size_t block_nodes = 0;
+  for (const Block& b : g.blocks) block_nodes += static_cast<std::size_t>(b.ni + 1) * (b.nj + 1) * (b.nk + 1);
+  EXPECT_LT(points.size(), block_nodes);
+
+  std::vector<int> count(n.cells, 0);
+  std::vector<Vec3> closure(n.cells, Vec3::Zero());
+  std::vector<Real> volume(n.cells, 0.0);
+  std::vector<Vec3> centre(n.cells, Vec3::Zero());
+  auto area = [&](const std::array<int, 4>& q) {
+    const Vec3 d1 = points[q[2]] - points[q[0]], d2 = points[q[3]] - points[q[1]];
+    return Vec3(0.5 * d1.cross(d2));
+  };
+  auto middle = [&](const std::array<int, 4>& q) {
+    return Vec3(0.25 * (points[q[0]] + points[q[1]] + points[q[2]] + points[q[3]]));
+  };
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const Vec3 S = area(faces[f]), xm = middle(faces[f]);
+    ++count[owner[f]];
+    closure[owner[f]] += S;
+    volume[owner[f]] += xm.dot(S) / 3.0;
+    centre[owner[f]] += xm / 6.0;
+    if (f < neighbour.size()) {
+      ASSERT_LT(owner[f], neighbour[f]);
+      if (f > 0) {
+        ASSERT_TRUE(owner[f - 1] < owner[f] || (owner[f - 1] == owner[f] && neighbour[f - 1] < neighbour[f]));
+      }
+      ++count[neighbour[f]];
+      closure[neighbour[f]] -= S;
+      volume[neighbour[f]] -= xm.dot(S) / 3.0;
+      centre[neighbour[f]] += xm / 6.0;
+    }
+  }
+  std::size_t cell = 0;
+  for (const Block& b : g.blocks)
+    for_each_cell(b, [&](int i, int j, int k) {
+      EXPECT_EQ(count[cell], 6) << b.name;
+      EXPECT_LT(closure[cell].norm(), 1e-12 * std::cbrt(b.vol(i, j, k) * b.vol(i, j, k))) << b.name;
+      EXPECT_NEAR(volume[cell], b.vol(i, j, k), 1e-9 * b.vol(i, j, k)) << b.name << " " << i << "," << j << "," << k;
+      ++cell;
+    });
+  for (std::size_t f = 0; f < neighbour.size(); ++f)
+    EXPECT_GT(area(faces[f]).dot(centre[neighbour[f]] - centre[owner[f]]), 0.0) << "face " << f;
+
+  const std::string boundary = test::read_text((mesh / "boundary").string());
+  std::size_t wall_faces = 0;
+  for (const Block& b : g.blocks)
+    for (const Patch& p : b.patches)
+      if (p.label == "body") wall_faces += static_cast<std::size_t>(b.n((side_dir(p.side) + 1) % 3)) * b.n((side_dir(p.side) + 2) % 3);
+  EXPECT_NE(boundary.find("body\n    {\n        type wall;"), std::string::npos) << boundary;
+  EXPECT_NE(boundary.find(fmt::format("nFaces {};\n        startFace {};", wall_faces, n.internal_faces)),
+            std::string::npos)
+      << boundary;
+  EXPECT_NE(boundary.find("farfield\n    {\n        type patch;"), std::string::npos) << boundary;
+  fs::remove_all(dir);
 }
 
 TEST(GridQuality, MeasuresOfAStretchedBoxAreItsSpacings) {
