@@ -11,7 +11,7 @@ from pathlib import Path
 
 from .errors import HarnessError
 from . import extract as _extractors  # noqa: F401  (registers every extractor with its keys)
-from .schema import check_extract, check_options, check_reference
+from .schema import check_extract, check_options, check_reference, unknown_keys
 
 TIERS = ("quick", "nightly")
 COMPARATORS = ("abs", "rel", "profile_rms", "profile_max", "observed_order", "gci", "restart_equal", "max", "min")
@@ -42,6 +42,22 @@ class Check:
     options: dict = field(default_factory=dict)
 
 
+# Pictures of a run's surface output: "surface" (the body coloured by a column, in 3-D)
+# and "axial" (a column's azimuthal mean along x, with reference points if given).
+PICTURE_KINDS = ("surface", "axial")
+
+
+@dataclass
+class Picture:
+    kind: str
+    run: str
+    title: str
+    tiers: tuple
+    column: str = "cp"
+    group: str = "body"
+    reference: dict = field(default_factory=dict)
+
+
 @dataclass
 class Reported:
     """A quantity the rung reports without a reference or a tolerance (no pass or fail):
@@ -62,7 +78,7 @@ class Rung:
     timeout_s: float
     runs: list
     checks: list
-    plots: list
+    pictures: list
     reported: list = field(default_factory=list)
 
 
@@ -201,10 +217,30 @@ def load_rung(path):
             raise HarnessError(f"{path}: {e}")
         r.finish()
         reported.append(q)
-    plots = top.get("plot", list, "an array of [[plot]] tables", default=[])
+    pictures = []
+    for i, t in enumerate(top.get("picture", list, "an array of [[picture]] tables", default=[])):
+        r = _Reader(path, t, f"picture[{i}].")
+        kind = r.get("kind", str, "a picture kind: " + " or ".join(PICTURE_KINDS), required=True)
+        if kind not in PICTURE_KINDS:
+            raise HarnessError(f"{path}: key 'picture[{i}].kind': unknown picture kind {kind!r}; "
+                               f"valid: {', '.join(PICTURE_KINDS)}")
+        pic = Picture(kind=kind, run=r.get("run", str, "the run whose surface is drawn", required=True),
+                      title=r.get("title", str, "a title", required=True),
+                      tiers=_tiers(r, "tiers", tiers, "a list of tiers"),
+                      column=r.get("column", str, "the surface column drawn", default="cp"),
+                      group=r.get("group", str, "the wall group", default="body"),
+                      reference=r.get("reference", dict, "reference points {file, where, x, y, label}", default={}))
+        if pic.run not in ids:
+            raise HarnessError(f"{path}: key 'picture[{i}].run': unknown run '{pic.run}'")
+        try:
+            unknown_keys(pic.reference, ("file", "where", "x", "y", "label"), f"picture[{i}].reference")
+        except HarnessError as e:
+            raise HarnessError(f"{path}: {e}")
+        r.finish()
+        pictures.append(pic)
     top.finish()
     return Rung(name=path.parent.name, title=title, directory=path.parent, tiers=tiers, timeout_s=timeout,
-                runs=runs, checks=checks, plots=plots, reported=reported)
+                runs=runs, checks=checks, pictures=pictures, reported=reported)
 
 
 def discover(cases_dir):

@@ -219,6 +219,66 @@ def _plot_check(check, path):
     return True
 
 
+def _surface_table(rung_dir, pic):
+    path = rung_dir / "runs" / pic["run"] / f"surface_{pic['group']}.csv"
+    if not path.exists():
+        return None
+    t = read_csv(path)
+    return t if pic["column"] in t else None
+
+
+def _picture_surface(t, pic, side, unrolled):
+    """The body coloured by the column: seen from the side (the half at y <= 0, x to the
+    right, z up, to scale) and unrolled (x against the azimuth from +z, every face)."""
+    x, y, z, v = t["x"], t["y"], t["z"], t[pic["column"]]
+    lo, hi = np.percentile(v, [1, 99])  # stagnation points would take the whole scale
+    near = np.argsort(-y)  # the faces nearest the viewer (y most negative) drawn last
+    near = near[y[near] <= 0.0]
+    dot = float(np.clip(4e4 / x.size, 1.0, 12.0))  # coarse grids: bigger dots
+    sc = side.scatter(x[near], z[near], c=v[near], s=dot, cmap="viridis", vmin=lo, vmax=hi)
+    side.set_aspect("equal")
+    side.set_xlabel("x")
+    side.set_ylabel("z")
+    phi = np.degrees(np.arctan2(-y, z))
+    unrolled.scatter(x, phi, c=v, s=dot, cmap="viridis", vmin=lo, vmax=hi)
+    unrolled.set_xlabel("x")
+    unrolled.set_ylabel("azimuth from +z [deg]")
+    return sc
+
+
+def _picture_axial(t, pic, ax):
+    """The column's azimuthal mean along x (faces grouped by their x to 1e-9), with the
+    reference points if any."""
+    key = np.round(t["x"], 9)
+    xs, inverse = np.unique(key, return_inverse=True)
+    mean = np.bincount(inverse, weights=t[pic["column"]]) / np.bincount(inverse)
+    ax.plot(xs, mean, "-", color="tab:blue", lw=1.2, label="Narwhal (azimuthal mean)")
+    ref = pic.get("reference")
+    if ref:
+        ax.plot(ref["x"], ref["y"], "ko", ms=5, label=ref["label"])
+    ax.set_xlabel("x / L")
+    ax.set_ylabel(pic["column"])
+    ax.axhline(0, color="k", lw=0.4)
+    ax.legend(fontsize=8)
+
+
+def _plot_picture(rung_dir, pic, path):
+    t = _surface_table(rung_dir, pic)
+    if t is None:
+        return False
+    if pic["kind"] == "surface":
+        fig, (ax, below) = plt.subplots(2, 1, figsize=(7.5, 5.6), gridspec_kw={"height_ratios": [1, 2]})
+        sc = _picture_surface(t, pic, ax, below)
+        fig.colorbar(sc, ax=below, orientation="horizontal", fraction=0.08, pad=0.18,
+                     label=pic["column"] + " (colours span its 1st to 99th percentile)")
+    else:
+        fig, ax = plt.subplots(figsize=(7.5, 4.2))
+        _picture_axial(t, pic, ax)
+    _title(ax, pic["title"])
+    _save(fig, path)
+    return True
+
+
 def _plot_residuals(rung_dir, res, path):
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
     any_line = False
@@ -276,6 +336,17 @@ def _rung_page(rung_dir, res):
             body += f"<pre>{html.escape(c['error'])}</pre>"
         if _plot_check(c, rung_dir / f"check_{i}.png"):
             body += f"<img src='check_{i}.png' alt='{html.escape(c['name'])}'>"
+    if res.get("pictures"):
+        body += "<h2>Pictures</h2>"
+        for i, pic in enumerate(res["pictures"]):
+            if pic.get("error"):
+                body += f"<p>{html.escape(pic['title'])}: {html.escape(pic['error'])}</p>"
+            if _plot_picture(rung_dir, pic, rung_dir / f"picture_{i}.png"):
+                body += f"<img src='picture_{i}.png' alt='{html.escape(pic['title'])}'>"
+                if pic.get("reference"):
+                    body += f"<p class=why>Reference points: {html.escape(pic['reference']['source'])}</p>"
+            else:
+                body += f"<p>{html.escape(pic['title'])}: run '{html.escape(pic['run'])}' left no surface file</p>"
     if res.get("reported"):
         body += ("<h2>Reported (no reference, no tolerance)</h2><table><tr><th>quantity</th><th>value</th>"
                  "<th>unit</th></tr>" + "".join(

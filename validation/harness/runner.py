@@ -13,6 +13,7 @@ from pathlib import Path
 from .compare import Curve, Family, compare
 from .errors import HarnessError
 from .extract import Context, extract
+from .reference import ReferenceFile
 from .references import resolve_reference
 
 EXIT_MEANING = {0: "converged", 1: "not converged (max_iterations or stalled: run.json tells)", 2: "input error", 3: "diverged"}
@@ -163,6 +164,7 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
                               "error": f"internal error: {e}\n{traceback.format_exc()}"})
             result["checks"].append(entry)
         result["reported"] = [_reported(ctx, q) for q in rung.reported if tier in q.tiers]
+        result["pictures"] = [_picture(p, root / "reference_data") for p in rung.pictures if tier in p.tiers]
         if not result["checks"]:
             result["status"] = "failed"
             result["message"] = f"no check of rung '{rung.name}' belongs to tier '{tier}'"
@@ -182,6 +184,23 @@ def _reported(ctx, q):
         entry["value"] = float(v)
     except HarnessError as e:
         entry["error"] = str(e)
+    return entry
+
+
+def _picture(p, reference_root):
+    """What the report needs to draw a picture: the run's surface file is read there;
+    reference points are read here, where reference_data/ is at hand."""
+    entry = {"kind": p.kind, "run": p.run, "title": p.title, "column": p.column, "group": p.group}
+    if p.reference:
+        try:
+            ref = ReferenceFile(reference_root, p.reference["file"])
+            rows = ref.rows_where(p.reference["where"]) if "where" in p.reference else None
+            entry["reference"] = {"x": ref.column(p.reference["x"], rows).tolist(),
+                                  "y": ref.column(p.reference["y"], rows).tolist(),
+                                  "label": p.reference.get("label", p.reference["file"]),
+                                  "source": ref.citation()}
+        except (HarnessError, KeyError) as e:
+            entry["error"] = f"reference points: {e}"
     return entry
 
 

@@ -98,6 +98,16 @@ class RungFiles(unittest.TestCase):
         msg = self.error(GOOD + report.replace('unit = "N"', 'units = "N"'))
         self.assertIn("unknown key 'report[0].units'", msg)
 
+    def test_pictures_name_a_known_kind_and_run(self):
+        pic = '\n[[picture]]\nkind = "axial"\nrun = "a"\ntitle = "Cf"\ncolumn = "cf_signed"\n'
+        rung = load_rung(self.write(GOOD + pic))
+        self.assertEqual((rung.pictures[0].kind, rung.pictures[0].column, rung.pictures[0].tiers),
+                         ("axial", "cf_signed", ("quick",)))
+        self.assertIn("picture[0].kind", self.error(GOOD + pic.replace('"axial"', '"contour"')))
+        self.assertIn("unknown run 'b'", self.error(GOOD + pic.replace('run = "a"', 'run = "b"')))
+        msg = self.error(GOOD + pic + 'reference = { file = "x.csv", x = "a", yy = "b" }\n')
+        self.assertIn("picture[0].reference.yy", msg)
+
     def test_misspelled_key_is_named_with_a_suggestion(self):
         msg = self.error(GOOD.replace("tolerance = 1.0", "tolerence = 1.0\ntolerance = 1.0"))
         self.assertIn("unknown key 'check[0].tolerence'", msg)
