@@ -138,6 +138,13 @@ def body_loads(ctx, spec, run_id):
     return abs(value) if spec.get("absolute", False) else value
 
 
+def azimuthal_mean(t, column, length=1.0):
+    """(x / L of each axial station, the column's mean over the station's wall faces):
+    faces of a surface table whose x agree to 1e-9 L form a station."""
+    xs, inverse = np.unique(np.round(t["x"] / length, 9), return_inverse=True)
+    return xs, np.bincount(inverse, weights=t[column]) / np.bincount(inverse)
+
+
 @extractor("axial_profile", "group", "y", "length", "stations")
 def axial_profile(ctx, spec, run_id):
     """A surface column (cp, cf_signed, ...) of an axisymmetric flow against x / L: the
@@ -154,10 +161,7 @@ def axial_profile(ctx, spec, run_id):
     column = _need(spec, "y", "the surface column")
     if column not in t:
         raise HarnessError(f"{path.name} has no column '{column}'")
-    length = float(spec.get("length", 1.0))
-    key = np.round(t["x"] / length, 9)
-    xs, inverse = np.unique(key, return_inverse=True)
-    mean = np.bincount(inverse, weights=t[column]) / np.bincount(inverse)
+    xs, mean = azimuthal_mean(t, column, float(spec.get("length", 1.0)))
     st = _need(spec, "stations", "the table of stations {file, where, x}")
     if not isinstance(st, dict) or "file" not in st or "x" not in st:
         raise HarnessError("axial_profile: 'stations' needs {file, x} and optionally where")

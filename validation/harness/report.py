@@ -16,6 +16,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from . import browser  # noqa: E402
+from .body import azimuthal_mean  # noqa: E402
 from .extract import read_csv  # noqa: E402
 from .ladder import load_ladder  # noqa: E402
 
@@ -247,11 +248,8 @@ def _picture_surface(t, pic, side, unrolled):
 
 
 def _picture_axial(t, pic, ax):
-    """The column's azimuthal mean along x (faces grouped by their x to 1e-9), with the
-    reference points if any."""
-    key = np.round(t["x"], 9)
-    xs, inverse = np.unique(key, return_inverse=True)
-    mean = np.bincount(inverse, weights=t[pic["column"]]) / np.bincount(inverse)
+    """The column's azimuthal mean along x, with the reference points if any."""
+    xs, mean = azimuthal_mean(t, pic["column"])
     ax.plot(xs, mean, "-", color="tab:blue", lw=1.2, label="Narwhal (azimuthal mean)")
     ref = pic.get("reference")
     if ref:
