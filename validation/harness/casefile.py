@@ -28,6 +28,7 @@ class Run:
     max_iterations: int = 0   # 0: the input's own limit
     restart_from: str = ""    # id of a run whose restart.h5 this run continues
     ranks: int = 0            # MPI ranks (mpirun); 0: validation/run --ranks (default 1)
+    code: str = "narwhal"     # or a peer code on the same case and grid (PEER_CODES)
 
 
 @dataclass
@@ -42,9 +43,15 @@ class Check:
     options: dict = field(default_factory=dict)
 
 
-# Pictures of a run's surface output: "surface" (the body coloured by a column, in 3-D)
-# and "axial" (a column's azimuthal mean along x, with reference points if given).
-PICTURE_KINDS = ("surface", "axial")
+# Peer codes a run may be made with, on the run's own case file and Narwhal's grid of it
+# (harness/openfoam.py); max_iterations is then the peer's iteration count.
+PEER_CODES = ("openfoam",)
+
+# Pictures of a run's surface output: "surface" (the body coloured by a column, in 3-D),
+# "axial" (a column's azimuthal mean along x, with reference points if given) and
+# "azimuthal" (the column around the body at the grid stations nearest `stations`, x / L).
+# `beside`: a second run of the rung (a peer code's) drawn on the same axes.
+PICTURE_KINDS = ("surface", "axial", "azimuthal")
 
 
 @dataclass
@@ -56,6 +63,8 @@ class Picture:
     column: str = "cp"
     group: str = "body"
     reference: dict = field(default_factory=dict)
+    beside: str = ""
+    stations: list = field(default_factory=list)
 
 
 @dataclass
@@ -168,7 +177,15 @@ def load_rung(path):
                         h=r.get("h", float, "the representative grid spacing", default=0.0),
                         max_iterations=r.get("max_iterations", int, "an iteration limit", default=0),
                         restart_from=r.get("restart_from", str, "the id of the run to continue", default=""),
-                        ranks=r.get("ranks", int, "a number of MPI ranks", default=0)))
+                        ranks=r.get("ranks", int, "a number of MPI ranks", default=0),
+                        code=r.get("code", str, "narwhal or a peer code (" + ", ".join(PEER_CODES) + ")",
+                                   default="narwhal")))
+        if runs[-1].code not in ("narwhal",) + PEER_CODES:
+            raise HarnessError(f"{path}: key 'run[{i}].code': unknown code {runs[-1].code!r}; valid: narwhal, "
+                               + ", ".join(PEER_CODES))
+        if runs[-1].code != "narwhal" and (runs[-1].restart_from or runs[-1].max_iterations <= 0):
+            raise HarnessError(f"{path}: run '{rid}': a peer run needs max_iterations (its iteration count) and "
+                               "cannot restart from a Narwhal run")
         r.finish()
     ids = [x.id for x in runs]
     if len(set(ids)) != len(ids):
@@ -229,9 +246,16 @@ def load_rung(path):
                       tiers=_tiers(r, "tiers", tiers, "a list of tiers"),
                       column=r.get("column", str, "the surface column drawn", default="cp"),
                       group=r.get("group", str, "the wall group", default="body"),
-                      reference=r.get("reference", dict, "reference points {file, where, x, y, label}", default={}))
-        if pic.run not in ids:
-            raise HarnessError(f"{path}: key 'picture[{i}].run': unknown run '{pic.run}'")
+                      reference=r.get("reference", dict, "reference points {file, where, x, y, label}", default={}),
+                      beside=r.get("beside", str, "the id of a run drawn beside it", default=""),
+                      stations=r.get("stations", list, "a list of axial stations x / L", default=[]))
+        for key, run in (("run", pic.run), ("beside", pic.beside)):
+            if run and run not in ids:
+                raise HarnessError(f"{path}: key 'picture[{i}].{key}': unknown run '{run}'")
+        if (kind == "azimuthal") != bool(pic.stations) or \
+                not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in pic.stations):
+            raise HarnessError(f"{path}: key 'picture[{i}].stations': an azimuthal picture (and only it) takes a "
+                               f"list of axial stations x / L; got {pic.stations!r}")
         try:
             unknown_keys(pic.reference, ("file", "where", "x", "y", "label"), f"picture[{i}].reference")
         except HarnessError as e:

@@ -39,6 +39,10 @@ class Context:
             raise HarnessError(f"rung '{self.rung.name}': no run '{run_id}' in this tier")
         return self.run_dirs[run_id]
 
+    def run_code(self, run_id):
+        """The code that made a run: "narwhal", or a peer code's name."""
+        return next((r.code for r in self.rung.runs if r.id == run_id), "narwhal")
+
     def solution(self, run_id):
         if run_id not in self._solutions:
             self._solutions[run_id] = read_solution(self.run_dir(run_id) / "solution.cgns")

@@ -44,6 +44,10 @@ def resolve_reference(ctx, spec, root, run_id_for_inputs=None):
     """Returns (value, description). Missing files, columns or header lines are errors."""
     if not spec:
         return None, ""
+    if "extract" in spec:
+        from .extract import extract  # extract imports this module
+        run = spec["extract"].get("run", "")
+        return extract(ctx, spec["extract"]), f"run '{run}' of this rung ({ctx.run_code(run)})"
     if "file" not in spec:
         raise HarnessError("a reference needs 'file' (a path under reference_data/)")
     ref = ReferenceFile(root, spec["file"])

@@ -260,11 +260,36 @@ def _picture_axial(t, pic, ax):
     ax.legend(fontsize=8)
 
 
+def _picture_azimuthal(tables, pic, ax):
+    """The column against the azimuth from +z at the grid stations nearest pic["stations"]
+    (x / L), one colour per station; the run beside (a peer's) dashed."""
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for (label, t), style in zip(tables, ("-", "--")):
+        xs = np.unique(np.round(t["x"], 9))
+        for n, station in enumerate(pic["stations"]):
+            at = xs[np.argmin(np.abs(xs - station))]
+            faces = np.abs(t["x"] - at) < 1e-9
+            phi = np.degrees(np.arctan2(-t["y"][faces], t["z"][faces]))
+            order = np.argsort(phi)
+            ax.plot(phi[order], t[pic["column"]][faces][order], style, color=colours[n % len(colours)], lw=1.2,
+                    label=f"{label}, x/L = {at:.3f}")
+    ax.set_xlabel("azimuth from +z [deg]")
+    ax.set_ylabel(pic["column"])
+    ax.legend(fontsize=7, ncol=2)
+
+
 def _plot_picture(rung_dir, pic, path):
     t = _surface_table(rung_dir, pic)
     if t is None:
         return False
-    if pic["kind"] == "surface":
+    if pic["kind"] == "azimuthal":
+        tables = [(pic["run"], t)]
+        other = _surface_table(rung_dir, dict(pic, run=pic["beside"])) if pic.get("beside") else None
+        if other is not None:
+            tables.append((pic["beside"], other))
+        fig, ax = plt.subplots(figsize=(7.5, 4.6))
+        _picture_azimuthal(tables, pic, ax)
+    elif pic["kind"] == "surface":
         fig, (ax, below) = plt.subplots(2, 1, figsize=(7.5, 5.6), gridspec_kw={"height_ratios": [1, 2]})
         sc = _picture_surface(t, pic, ax, below)
         fig.colorbar(sc, ax=below, orientation="horizontal", fraction=0.08, pad=0.18,
@@ -287,6 +312,8 @@ def _plot_residuals(rung_dir, res, path):
         t = read_csv(h)
         if t["iteration"].size == 0:
             continue
+        if "res_p" not in t:  # a peer code's history carries forces only
+            continue
         tot = np.sqrt(sum(t[c] ** 2 for c in ("res_p", "res_u", "res_v", "res_w")))
         ax.semilogy(t["iteration"], tot / tot[0], label=r["id"])
         any_line = True
@@ -304,7 +331,8 @@ def _plot_residuals(rung_dir, res, path):
 
 def _rung_page(rung_dir, res):
     rows = "".join(
-        f"<tr><td>{html.escape(r['id'])}</td><td class='{html.escape(str(r.get('status')))}'>{_fmt(r.get('status'))}</td>"
+        f"<tr><td>{html.escape(r['id'])}</td><td>{html.escape(r.get('peer_version') or r.get('code', 'narwhal'))}</td>"
+        f"<td class='{html.escape(str(r.get('status')))}'>{_fmt(r.get('status'))}</td>"
         f"<td class=num>{_fmt(r.get('ranks', 1))}</td>"
         f"<td class=num>{_fmt(r.get('iterations'))}</td><td class=num>{_fmt(r.get('wall_seconds'))}</td>"
         f"<td class=num>{_fmt(r.get('cells'))}</td><td class=num>{_fmt(r.get('residual_drop'))}</td>"
@@ -313,7 +341,7 @@ def _rung_page(rung_dir, res):
             f"{_fmt(res.get('wall_seconds'))} s</p>")
     if res.get("message"):
         body += f"<p>{html.escape(res['message'])}</p>"
-    body += ("<h2>Runs</h2><table><tr><th>run</th><th>status</th><th>ranks</th><th>iterations</th><th>wall s</th><th>cells</th>"
+    body += ("<h2>Runs</h2><table><tr><th>run</th><th>code</th><th>status</th><th>ranks</th><th>iterations</th><th>wall s</th><th>cells</th>"
              f"<th>residual drop</th><th>log</th></tr>{rows}</table>")
     if _plot_residuals(rung_dir, res, rung_dir / "residuals.png"):
         body += "<img src='residuals.png' alt='residual history'>"

@@ -101,40 +101,17 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
     for r in runs:
         rd = out_dir / "runs" / r.id
         rd.mkdir(parents=True, exist_ok=True)
-        n = r.ranks or ranks
-        try:
-            cmd = mpi_launcher(n) + [str(narwhal), "run", str(r.input), "--out", str(rd)]
-        except HarnessError as e:
-            result["runs"].append({"id": r.id, "status": "crashed (no MPI launcher)", "message": str(e), "ranks": n})
-            result["status"] = "crashed"
-            break
-        for k, v in r.set.items():
-            cmd += ["--set", f"{k}={v}"]
-        if r.max_iterations:
-            cmd += ["--max-iterations", str(r.max_iterations)]
-        if r.restart_from:
-            src = out_dir / "runs" / r.restart_from / "restart.h5"
-            cmd += ["--restart", str(src)]
         remaining = rung.timeout_s - (time.monotonic() - started)
-        info = {"id": r.id, "command": " ".join(cmd), "log": f"runs/{r.id}/narwhal.log", "ranks": n}
-        try:
-            with open(rd / "narwhal.log", "w") as log:
-                proc = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, timeout=max(remaining, 1.0),
-                                      env=mpi_environment())
-            info["exit_code"] = proc.returncode
-            info["status"] = EXIT_MEANING.get(proc.returncode, f"crashed (exit {proc.returncode})")
-        except subprocess.TimeoutExpired:
-            info["status"] = "timeout"
-            result["status"] = "timeout"
-        rj = rd / "run.json"
-        if rj.exists():
-            with open(rj) as f:
-                data = json.load(f)
-            for k in ("iterations", "wall_seconds", "cells", "residual_drop", "status", "message"):
-                info[k] = data.get(k)
-            result["provenance"].update({k: data["provenance"][k] for k in ("compiler", "flags", "version")})
+        if r.code == "narwhal":
+            info = _run_narwhal(r, rd, r.ranks or ranks, narwhal, out_dir, remaining)
+        else:
+            info = _run_peer(r, rd, r.ranks or ranks, narwhal, remaining)
+        if "compiler" in info:
+            result["provenance"].update({k: info.pop(k) for k in ("compiler", "flags", "version")})
         result["runs"].append(info)
-        if info["status"] in ("input error", "diverged") or info["status"].startswith("crashed"):
+        if info["status"] == "timeout":
+            result["status"] = "timeout"
+        elif info["status"] in ("input error", "diverged") or info["status"].startswith("crashed"):
             result["status"] = "crashed"
         if result["status"] in ("crashed", "timeout"):
             break
@@ -173,6 +150,75 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
     return _finish(result, out_dir, started)
 
 
+def _run_narwhal(r, rd, n, narwhal, out_dir, remaining):
+    """One Narwhal run (under mpirun for n > 1): its entry of result["runs"]."""
+    try:
+        cmd = mpi_launcher(n) + [str(narwhal), "run", str(r.input), "--out", str(rd)]
+    except HarnessError as e:
+        return {"id": r.id, "status": "crashed (no MPI launcher)", "message": str(e), "ranks": n}
+    for k, v in r.set.items():
+        cmd += ["--set", f"{k}={v}"]
+    if r.max_iterations:
+        cmd += ["--max-iterations", str(r.max_iterations)]
+    if r.restart_from:
+        cmd += ["--restart", str(out_dir / "runs" / r.restart_from / "restart.h5")]
+    info = {"id": r.id, "code": "narwhal", "command": " ".join(cmd), "log": f"runs/{r.id}/narwhal.log", "ranks": n}
+    try:
+        with open(rd / "narwhal.log", "w") as log:
+            proc = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, timeout=max(remaining, 1.0),
+                                  env=mpi_environment())
+        info["exit_code"] = proc.returncode
+        info["status"] = EXIT_MEANING.get(proc.returncode, f"crashed (exit {proc.returncode})")
+    except subprocess.TimeoutExpired:
+        info["status"] = "timeout"
+    rj = rd / "run.json"
+    if rj.exists():
+        with open(rj) as f:
+            data = json.load(f)
+        for k in ("iterations", "wall_seconds", "cells", "residual_drop", "status", "message"):
+            info[k] = data.get(k)
+        info.update({k: data["provenance"][k] for k in ("compiler", "flags", "version")})
+    return info
+
+
+def _run_peer(r, rd, n, narwhal, remaining):
+    """A peer code's run on Narwhal's grid of the run's case (harness/openfoam.py): its
+    outputs land in rd in Narwhal's layouts (run.json, history.csv, surface_body.csv)."""
+    from . import openfoam
+    info = {"id": r.id, "code": r.code, "log": f"runs/{r.id}/openfoam/log.simpleFoam", "ranks": n}
+    if not openfoam.available():
+        info.update(status="crashed (no OpenFOAM)",
+                    message=f"{openfoam.FOAM_BASHRC} is missing: install Debian's openfoam (ci/nightly does)")
+        return info
+    case_dir = rd / "openfoam"
+    shutil.rmtree(case_dir, ignore_errors=True)
+    grid_cmd = [str(narwhal), "grid", str(r.input), "--out", str(rd / "grid"), "--openfoam", str(case_dir)]
+    for k, v in r.set.items():
+        grid_cmd += ["--set", f"{k}={v}"]
+    info["command"] = " ".join(grid_cmd) + f" && simpleFoam ({r.max_iterations} iterations, {n} ranks)"
+    started = time.monotonic()
+    try:
+        with open(rd / "grid.log", "w") as log:
+            done = subprocess.run(grid_cmd, stdout=log, stderr=subprocess.STDOUT, timeout=max(remaining, 1.0))
+        if done.returncode != 0:
+            info.update(status="input error", message=f"narwhal grid exited with {done.returncode}; see runs/{r.id}/grid.log")
+            return info
+        settings = openfoam.case_settings(effective_input(r), r.input)
+        openfoam.write_case(case_dir, settings, r.max_iterations)
+        seconds = openfoam.run(case_dir, n, timeout=max(remaining - (time.monotonic() - started), 1.0))
+        data = openfoam.write_results(case_dir, rd, settings, seconds)
+    except subprocess.TimeoutExpired:
+        info["status"] = "timeout"
+        return info
+    except HarnessError as e:
+        info.update(status="crashed (peer run)", message=str(e))
+        return info
+    info.update(status="stopped at its iteration count", iterations=data["iterations"],
+                wall_seconds=data["wall_seconds"], cells=data["cells"], message=data["message"],
+                peer_version=data["provenance"]["version"])
+    return info
+
+
 def _reported(ctx, q):
     """A reported quantity's value, or the error that kept it from being extracted
     (shown in the report; it fails nothing, having no tolerance)."""
@@ -190,7 +236,8 @@ def _reported(ctx, q):
 def _picture(p, reference_root):
     """What the report needs to draw a picture: the run's surface file is read there;
     reference points are read here, where reference_data/ is at hand."""
-    entry = {"kind": p.kind, "run": p.run, "title": p.title, "column": p.column, "group": p.group}
+    entry = {"kind": p.kind, "run": p.run, "title": p.title, "column": p.column, "group": p.group,
+             "beside": p.beside, "stations": p.stations}
     if p.reference:
         try:
             ref = ReferenceFile(reference_root, p.reference["file"])

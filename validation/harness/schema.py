@@ -24,7 +24,9 @@ def extractor(kind, *keys):
 # Extractions whose values are extractions themselves.
 NESTED = {"ratio": ("a", "b"), "curve_difference": ("a", "b"), "dimensional": ("of",)}
 
-REFERENCE = ("file", "derive", "params", "header", "x", "y", "where", "column", "row")
+# `extract`: the reference is another run's value (a peer code's run), extracted as the
+# computed value is; the other keys read a file under reference_data/.
+REFERENCE = ("file", "derive", "params", "header", "x", "y", "where", "column", "row", "extract")
 DNS_REFERENCE = ("file", "where")
 
 # Options a comparator takes; log_x (a logarithmic x axis in the report) goes with any.
@@ -63,6 +65,10 @@ def check_extract(spec, where):
 
 def check_reference(spec, where):
     unknown_keys(spec, REFERENCE, where)
+    if isinstance(spec.get("extract"), dict):
+        if len(spec) != 1:
+            raise HarnessError(f"{where}: a reference taken from a run ('extract') takes no other key")
+        check_extract(spec["extract"], f"{where}.extract")
 
 
 def check_options(comparator, options, where):

@@ -108,6 +108,14 @@ class RungFiles(unittest.TestCase):
         msg = self.error(GOOD + pic + 'reference = { file = "x.csv", x = "a", yy = "b" }\n')
         self.assertIn("picture[0].reference.yy", msg)
 
+    def test_azimuthal_pictures_need_their_stations_and_a_known_run_beside(self):
+        pic = '\n[[picture]]\nkind = "azimuthal"\nrun = "a"\ntitle = "Cp"\nstations = [0.5, 0.8]\n'
+        rung = load_rung(self.write(GOOD + pic))
+        self.assertEqual(rung.pictures[0].stations, [0.5, 0.8])
+        self.assertIn("picture[0].stations", self.error(GOOD + pic.replace("stations = [0.5, 0.8]\n", "")))
+        self.assertIn("picture[0].stations", self.error(GOOD + pic.replace("[0.5, 0.8]", '["mid"]')))
+        self.assertIn("picture[0].beside", self.error(GOOD + pic + 'beside = "peer"\n'))
+
     def test_misspelled_key_is_named_with_a_suggestion(self):
         msg = self.error(GOOD.replace("tolerance = 1.0", "tolerence = 1.0\ntolerance = 1.0"))
         self.assertIn("unknown key 'check[0].tolerence'", msg)

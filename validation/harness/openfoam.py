@@ -1,0 +1,291 @@
+"""OpenFOAM's simpleFoam (k-omega SST or Launder-Sharma k-epsilon) as a peer run on exactly Narwhal's grid (exported
+with `narwhal grid --openfoam`): one place that writes the OpenFOAM case from a Narwhal
+case file, runs it, and turns its forces into Narwhal's run.json layout, so that a rung's
+extractors read a peer run as they read a Narwhal run (harness runs with peer =
+"openfoam"; benchmarks/peer/openfoam_body.py times the two codes).
+
+Both codes solve the same non-dimensional problem: U = 1 along the case's free stream
+(angle of attack and drift in the grid axes of solver/motion/grid_axes.hpp), L = 1,
+nu = 1 / Re, the case's free-stream turbulence, rho = 1; coefficients on 1/2 U^2 A_ref
+(and A_ref L_ref for moments) about the case's moment centre.
+
+Schemes (second order, bounded where OpenFOAM's steady solver needs it): linearUpwind for
+momentum, limitedLinear for k and omega, cell-limited gradients, limited non-orthogonal
+correction (the body grids' non-orthogonality reaches 60 degrees near the pole squares);
+SIMPLEC with GAMG for the pressure. OpenFOAM (Debian package `openfoam`) is installed by
+ci/nightly only, never by CI.
+"""
+import json
+import math
+import re
+import subprocess
+import time
+from pathlib import Path
+
+from .errors import HarnessError
+
+FOAM_BASHRC = "/usr/share/openfoam/etc/bashrc"  # Debian's OpenFOAM environment
+
+HEADER = """FoamFile
+{{
+    version 2.0;
+    format ascii;
+    class {cls};
+    object {obj};
+}}
+"""
+
+
+def available():
+    return Path(FOAM_BASHRC).exists()
+
+
+def _write(path, cls, obj, body):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(HEADER.format(cls=cls, obj=obj) + body)
+
+
+def foam(cmd, cwd, log, timeout=None):
+    """An OpenFOAM utility inside its environment (Debian: source etc/bashrc first)."""
+    script = f"source {FOAM_BASHRC} >/dev/null 2>&1; exec " + " ".join(cmd)
+    with open(log, "w") as f:
+        done = subprocess.run(["bash", "-c", script], cwd=cwd, stdout=f, stderr=subprocess.STDOUT, timeout=timeout)
+    if done.returncode != 0:
+        raise HarnessError(f"OpenFOAM's {cmd[0]} failed (exit {done.returncode}); see {log}")
+
+
+# Narwhal's turbulence.model -> OpenFOAM's RASModel and the fields it solves (with
+# their wall conditions; the free stream as Narwhal's: k from the intensity, the second
+# variable from the eddy-viscosity ratio).
+MODELS = {"sst": "kOmegaSST", "launder-sharma": "LaunderSharmaKE"}
+
+
+def free_stream_direction(alpha_deg, beta_deg):
+    """The free stream in grid axes: solver/motion/grid_axes.hpp's free_stream_in_grid_axes
+    (the body's nose at -x of the grid, z down): (cos a cos b, -sin b, -sin a cos b)."""
+    a, b = math.radians(alpha_deg), math.radians(beta_deg)
+    return (math.cos(a) * math.cos(b), -math.sin(b), -math.sin(a) * math.cos(b))
+
+
+def case_settings(c, where):
+    """What the peer case needs from a Narwhal case (the TOML tree with its overrides
+    applied: runner.effective_input); `where` names it in messages."""
+    t = c.get("turbulence", {})
+    if t.get("model") not in MODELS:
+        raise HarnessError(f"{where}: the OpenFOAM peer run solves {' or '.join(MODELS)}; the case's "
+                           f"turbulence.model is {t.get('model')!r}")
+    flow, out = c["flow"], c.get("output", {})
+    re_ = float(flow["reynolds"])
+    tu, ratio = float(t.get("intensity", 0.001)), float(t.get("freestream_nut_ratio", 3.0))
+    k = 1.5 * tu * tu
+    nut = ratio / re_
+    return {"model": t["model"], "nu": 1.0 / re_, "k": k, "omega": k / nut, "epsilon": 0.09 * k * k / nut,
+            "direction": free_stream_direction(float(flow.get("angle_of_attack", 0.0)), float(flow.get("drift_angle", 0.0))),
+            "area": float(out.get("reference_area", 1.0)), "length": float(out.get("reference_length", 1.0)),
+            "centre": [float(x) for x in out.get("moment_centre", [0.0, 0.0, 0.0])]}
+
+
+def write_case(d, s, iterations):
+    nu, k, w, e = s["nu"], s["k"], s["omega"], s["epsilon"]
+    u = "({} {} {})".format(*(repr(x) for x in s["direction"]))
+    _write(d / "constant" / "transportProperties", "dictionary", "transportProperties",
+           f"transportModel Newtonian;\nnu {nu!r};\n")
+    _write(d / "constant" / "turbulenceProperties", "dictionary", "turbulenceProperties",
+           f"simulationType RAS;\nRAS {{ RASModel {MODELS[s['model']]}; turbulence on; printCoeffs off; }}\n")
+    fields = {
+        "U": ("volVectorField", "[0 1 -1 0 0 0 0]", f"uniform {u}",
+              "body { type noSlip; }", f"farfield {{ type freestreamVelocity; freestreamValue uniform {u}; }}"),
+        "p": ("volScalarField", "[0 2 -2 0 0 0 0]", "uniform 0",
+              "body { type zeroGradient; }", "farfield { type freestreamPressure; freestreamValue uniform 0; }"),
+        "k": ("volScalarField", "[0 2 -2 0 0 0 0]", f"uniform {k!r}",
+              "body { type fixedValue; value uniform 1e-14; }",
+              f"farfield {{ type inletOutlet; inletValue uniform {k!r}; value uniform {k!r}; }}"),
+        "omega": ("volScalarField", "[0 0 -1 0 0 0 0]", f"uniform {w!r}",
+                  "body { type omegaWallFunction; value uniform 1; }",
+                  f"farfield {{ type inletOutlet; inletValue uniform {w!r}; value uniform {w!r}; }}"),
+        # Launder-Sharma solves epsilon-tilde, zero at the wall
+        "epsilon": ("volScalarField", "[0 2 -3 0 0 0 0]", f"uniform {e!r}",
+                    "body { type fixedValue; value uniform 0; }",
+                    f"farfield {{ type inletOutlet; inletValue uniform {e!r}; value uniform {e!r}; }}"),
+        "nut": ("volScalarField", "[0 2 -1 0 0 0 0]", "uniform 0",
+                "body { type nutLowReWallFunction; value uniform 0; }", "farfield { type calculated; value uniform 0; }"),
+    }
+    del fields["epsilon" if s["model"] == "sst" else "omega"]
+    for name, (cls, dim, internal, wall, farfield) in fields.items():
+        _write(d / "0" / name, cls, name,
+               f"dimensions {dim};\ninternalField {internal};\nboundaryField\n{{\n    {wall}\n    {farfield}\n}}\n")
+    c = s["centre"]
+    _write(d / "system" / "controlDict", "dictionary", "controlDict", f"""
+application simpleFoam;
+startFrom startTime; startTime 0; stopAt endTime; endTime {iterations}; deltaT 1;
+writeControl timeStep; writeInterval {iterations}; purgeWrite 1; writeFormat binary;
+runTimeModifiable false;
+functions
+{{
+    forces
+    {{
+        type forces; libs ("libforces.so"); writeControl timeStep; writeInterval 1;
+        patches (body); rho rhoInf; rhoInf 1; CofR ({c[0]!r} {c[1]!r} {c[2]!r});
+    }}
+    wall
+    {{
+        type surfaces; libs ("libsampling.so"); writeControl onEnd; surfaceFormat raw;
+        fields (p); interpolationScheme cell;
+        surfaces ( body {{ type patch; patches (body); interpolate false; }} );
+    }}
+}}
+""")
+    _write(d / "system" / "fvSchemes", "dictionary", "fvSchemes", """
+ddtSchemes { default steadyState; }
+gradSchemes { default cellLimited Gauss linear 1; }
+divSchemes
+{
+    default none;
+    div(phi,U) bounded Gauss linearUpwind grad(U);
+    div(phi,k) bounded Gauss limitedLinear 1;
+    div(phi,omega) bounded Gauss limitedLinear 1;
+    div(phi,epsilon) bounded Gauss limitedLinear 1;
+    div((nuEff*dev2(T(grad(U))))) Gauss linear;
+}
+laplacianSchemes { default Gauss linear limited corrected 0.5; }
+interpolationSchemes { default linear; }
+snGradSchemes { default limited corrected 0.5; }
+wallDist { method meshWave; }
+""")
+    _write(d / "system" / "fvSolution", "dictionary", "fvSolution", """
+solvers
+{
+    p { solver GAMG; smoother GaussSeidel; tolerance 1e-10; relTol 0.05; }
+    "(U|k|omega|epsilon)" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-12; relTol 0.1; }
+}
+SIMPLE { nNonOrthogonalCorrectors 0; consistent yes; }
+relaxationFactors { equations { U 0.8; ".*" 0.6; } fields { p 1; } }
+""")
+
+
+def run(d, ranks, timeout=None):
+    """simpleFoam in d (its mesh in d/constant/polyMesh); the wall time of the solver alone."""
+    t0 = time.monotonic()
+    if ranks > 1:
+        _write(d / "system" / "decomposeParDict", "dictionary", "decomposeParDict",
+               f"numberOfSubdomains {ranks};\nmethod scotch;\n")
+        foam(["decomposePar", "-force"], d, d / "log.decomposePar", timeout)
+        foam(["mpirun", "-np", str(ranks), "--oversubscribe", "simpleFoam", "-parallel"], d, d / "log.simpleFoam",
+             timeout)
+    else:
+        foam(["simpleFoam"], d, d / "log.simpleFoam", timeout)
+    return time.monotonic() - t0
+
+
+def _numbers(line):
+    return [float(x) for x in re.sub(r"[()]", " ", line).split()]
+
+
+def history(d, s):
+    """Per iteration: (iteration, wall seconds, coefficients in grid axes {cfx .. cmz},
+    their pressure and viscous parts) from the forces function object."""
+    wall = {}
+    it = None
+    for line in (d / "log.simpleFoam").read_text().splitlines():
+        m = re.match(r"^Time = (\d+)", line)
+        if m:
+            it = int(m.group(1))
+        m = re.search(r"ExecutionTime = ([\d.eE+-]+) s", line)
+        if m and it is not None:
+            wall[it] = float(m.group(1))
+    base = d / "postProcessing" / "forces"
+    force_files, moment_files = sorted(base.glob("*/force.dat")), sorted(base.glob("*/moment.dat"))
+    if not force_files or not moment_files:
+        raise HarnessError(f"{base}: no force.dat / moment.dat (did simpleFoam run?)")
+    q = 0.5 * s["area"]  # rho = U = 1
+    rows = []
+    moments = {}
+    for line in moment_files[0].read_text().splitlines():
+        if not line.startswith("#") and line.strip():
+            v = _numbers(line)
+            moments[int(v[0])] = v[1:]
+    for line in force_files[0].read_text().splitlines():
+        if line.startswith("#") or not line.strip():
+            continue
+        v = _numbers(line)
+        i = int(v[0])
+        if i not in moments or i not in wall:
+            continue
+        f, m = v[1:], moments[i]  # total, pressure, viscous: 3 components each
+        coeff = lambda arr, off, scale: dict(zip(("x", "y", "z"), (arr[off + j] / scale for j in range(3))))
+        parts = {}
+        for name, off in (("total", 0), ("pressure", 3), ("friction", 6)):
+            cf, cm = coeff(f, off, q), coeff(m, off, q * s["length"])
+            parts[name] = {"cfx": cf["x"], "cfy": cf["y"], "cfz": cf["z"], "cmx": cm["x"], "cmy": cm["y"], "cmz": cm["z"]}
+        rows.append((i, wall[i], parts))
+    if not rows:
+        raise HarnessError(f"{d}: simpleFoam wrote no forces")
+    return rows
+
+
+def body_axes(c):
+    """Grid-axes coefficients to the body axes of NUMERICS §0.1 (grid_axes.hpp: x_B = -x,
+    y_B = -y, z_B = z), in run.json's names."""
+    return {"X": -c["cfx"], "Y": -c["cfy"], "Z": c["cfz"], "K": -c["cmx"], "M": -c["cmy"], "N": c["cmz"]}
+
+
+def write_results(d, out, s, solver_seconds):
+    """run.json, history.csv and surface_body.csv in Narwhal's layouts, so that the
+    harness's extractors read the peer run as they read a Narwhal run."""
+    rows = history(d, s)
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out / "history.csv", "w") as f:
+        f.write("# OpenFOAM simpleFoam (k-omega SST) on Narwhal's grid; forces on the patch body, grid axes\n")
+        f.write("iteration,wall_s,body_cfx,body_cfy,body_cfz,body_cmx,body_cmy,body_cmz\n")
+        for i, w, p in rows:
+            t = p["total"]
+            f.write(f"{i},{w!r}," + ",".join(repr(t[k]) for k in ("cfx", "cfy", "cfz", "cmx", "cmy", "cmz")) + "\n")
+    last = rows[-1][2]
+    body = dict(last["total"])
+    body["pressure"], body["friction"] = last["pressure"], last["friction"]
+    body["body_axes"] = body_axes(last["total"])
+    window = [r[2]["total"]["cfx"] for r in rows[-20:]]
+    span = (max(window) - min(window)) / max(abs(window[-1]), 1e-300)
+    cells = _cell_count(d)
+    run_json = {"case": s.get("case", ""), "title": "OpenFOAM simpleFoam peer run", "status": "stopped",
+                "message": f"simpleFoam ran its {rows[-1][0]} iterations", "iterations": rows[-1][0],
+                "wall_seconds": solver_seconds, "cells": cells, "force_span": span,
+                "forces": {"body": body},
+                "provenance": {"version": _foam_version(d), "git_sha": "", "compiler": "Debian openfoam package",
+                               "flags": "simpleFoam"}}
+    (out / "run.json").write_text(json.dumps(run_json, indent=1) + "\n")
+    _write_surface(d, out)
+    return run_json
+
+
+def _cell_count(d):
+    for line in (d / "log.checkMesh").read_text().splitlines() if (d / "log.checkMesh").exists() else []:
+        m = re.match(r"\s*cells:\s+(\d+)", line)
+        if m:
+            return int(m.group(1))
+    owner = (d / "constant" / "polyMesh" / "owner").read_text(errors="replace")
+    m = re.search(r"nCells:\s*(\d+)", owner)
+    return int(m.group(1)) if m else None
+
+
+def _foam_version(d):
+    log = (d / "log.simpleFoam").read_text(errors="replace")
+    m = re.search(r"Version:\s*(\S+)", log)
+    return f"OpenFOAM {m.group(1)}" if m else "OpenFOAM"
+
+
+def _write_surface(d, out):
+    """The wall pressure the surfaces function object wrote (raw: x y z p per face) as
+    surface_body.csv (x, y, z, cp) — cp = 2 p with rho = U = 1."""
+    found = sorted((d / "postProcessing" / "wall").glob("*/p_body.raw")) or \
+        sorted((d / "postProcessing" / "wall").glob("*/body/p.raw"))
+    if not found:
+        return
+    with open(out / "surface_body.csv", "w") as f:
+        f.write("# OpenFOAM simpleFoam peer run: wall pressure of the patch body, face centres; cp = 2 p\n")
+        f.write("x,y,z,cp\n")
+        for line in found[-1].read_text().splitlines():
+            if line.startswith("#") or not line.strip():
+                continue
+            x, y, z, p = (float(v) for v in line.split()[:4])
+            f.write(f"{x!r},{y!r},{z!r},{2.0 * p!r}\n")

@@ -1,0 +1,167 @@
+"""The OpenFOAM peer run's pieces that need no OpenFOAM: the case it derives from a
+Narwhal case, and the conversion of simpleFoam's forces to Narwhal's run.json layout."""
+import json
+import math
+import tempfile
+import textwrap
+import unittest
+from pathlib import Path
+
+import numpy as np
+
+import support  # noqa: F401
+
+from harness import openfoam
+from harness.casefile import load_rung
+from harness.errors import HarnessError
+from harness.extract import Context, extract
+from harness.references import resolve_reference
+from test_casefile import GOOD
+
+CASE = {"flow": {"reynolds": 4.0e6, "angle_of_attack": 10.0},
+        "turbulence": {"model": "sst", "intensity": 0.01, "freestream_nut_ratio": 0.1},
+        "output": {"reference_area": 2.0, "reference_length": 0.5, "moment_centre": [0.5, 0.0, 0.0]}}
+
+
+def fake_foam_run(d, forces, moments, iterations=3):
+    """What simpleFoam leaves behind: its log and the forces function object's files
+    (total, pressure, viscous vectors per line), the same loads every iteration."""
+    log = "".join(f"Time = {i}\n\nExecutionTime = {0.5 * i} s  ClockTime = {i} s\n\n" for i in range(1, iterations + 1))
+    (d).mkdir(parents=True, exist_ok=True)
+    (d / "log.simpleFoam").write_text("Version: 1912\n" + log)
+    base = d / "postProcessing" / "forces" / "0"
+    base.mkdir(parents=True)
+    vec = lambda v: "({} {} {})".format(*v)
+    for name, parts in (("force.dat", forces), ("moment.dat", moments)):
+        lines = ["# Forces", "# Time total pressure viscous"]
+        lines += [f"{i}\t" + "\t".join(vec(p) for p in parts) for i in range(1, iterations + 1)]
+        (base / name).write_text("\n".join(lines) + "\n")
+    poly = d / "constant" / "polyMesh"
+    poly.mkdir(parents=True)
+    (poly / "owner").write_text('note "nPoints:8  nCells:1  nFaces:6  nInternalFaces:0";\n')
+
+
+class PeerCase(unittest.TestCase):
+    def test_free_stream_follows_narwhal_grid_axes(self):
+        s = openfoam.case_settings(CASE, "case.toml")
+        a = math.radians(10.0)
+        for got, want in zip(s["direction"], (math.cos(a), 0.0, -math.sin(a))):
+            self.assertAlmostEqual(got, want, places=15)
+        self.assertAlmostEqual(s["nu"], 2.5e-7)
+        k = 1.5e-4
+        self.assertAlmostEqual(s["k"], k)
+        self.assertAlmostEqual(s["omega"], k / (0.1 * 2.5e-7))
+
+    def test_other_models_are_refused_with_the_key(self):
+        case = dict(CASE, turbulence={"model": "spalart_allmaras"})
+        with self.assertRaises(HarnessError) as cm:
+            openfoam.case_settings(case, "my.toml")
+        self.assertIn("my.toml", str(cm.exception))
+        self.assertIn("turbulence.model", str(cm.exception))
+
+    def test_launder_sharma_solves_epsilon_from_the_same_eddy_viscosity_ratio(self):
+        case = dict(CASE, turbulence=dict(CASE["turbulence"], model="launder-sharma"))
+        s = openfoam.case_settings(case, "case.toml")
+        self.assertAlmostEqual(0.09 * s["k"] ** 2 / s["epsilon"], 0.1 * 2.5e-7)
+        d = Path(tempfile.mkdtemp())
+        openfoam.write_case(d, s, 10)
+        self.assertTrue((d / "0" / "epsilon").exists())
+        self.assertFalse((d / "0" / "omega").exists())
+        self.assertIn("LaunderSharmaKE", (d / "constant" / "turbulenceProperties").read_text())
+
+    def test_forces_become_coefficients_in_body_axes(self):
+        d = Path(tempfile.mkdtemp())
+        s = openfoam.case_settings(CASE, "case.toml")
+        # total = pressure + viscous; q A = 1/2 * 2 = 1, so coefficients equal forces
+        fake_foam_run(d / "foam", [(3.0, 0.5, -2.0), (1.0, 0.5, -1.5), (2.0, 0.0, -0.5)],
+                      [(0.1, 0.2, 0.3), (0.1, 0.2, 0.3), (0.0, 0.0, 0.0)])
+        data = openfoam.write_results(d / "foam", d / "out", s, 12.5)
+        body = json.loads((d / "out" / "run.json").read_text())["forces"]["body"]
+        self.assertEqual(data["iterations"], 3)
+        self.assertEqual(data["cells"], 1)
+        self.assertAlmostEqual(body["cfx"], 3.0)
+        self.assertAlmostEqual(body["pressure"]["cfz"], -1.5)
+        self.assertAlmostEqual(body["friction"]["cfx"], 2.0)
+        # moments on q A L_ref = 0.5; body axes x_B = -x, y_B = -y, z_B = z
+        axes = body["body_axes"]
+        self.assertAlmostEqual(axes["X"], -3.0)
+        self.assertAlmostEqual(axes["Y"], -0.5)
+        self.assertAlmostEqual(axes["Z"], -2.0)
+        self.assertAlmostEqual(axes["K"], -0.2)
+        self.assertAlmostEqual(axes["M"], -0.4)
+        self.assertAlmostEqual(axes["N"], 0.6)
+        history = (d / "out" / "history.csv").read_text().splitlines()
+        self.assertEqual(history[1].split(",")[:3], ["iteration", "wall_s", "body_cfx"])
+        self.assertEqual(len(history), 2 + 3)
+
+    def test_no_force_output_is_an_error_naming_the_directory(self):
+        d = Path(tempfile.mkdtemp())
+        (d / "log.simpleFoam").write_text("Time = 1\nExecutionTime = 1 s\n")
+        with self.assertRaises(HarnessError) as cm:
+            openfoam.history(d, openfoam.case_settings(CASE, "c"))
+        self.assertIn(str(d), str(cm.exception))
+
+
+PEER_RUNG = GOOD.replace('input = "in.toml"\n', 'input = "in.toml"\n\n[[run]]\nid = "peer"\ncode = "openfoam"\n'
+                         'input = "in.toml"\nmax_iterations = 10\n')
+
+
+class PeerRuns(unittest.TestCase):
+    def rung(self, text):
+        d = Path(tempfile.mkdtemp()) / "r"
+        d.mkdir()
+        (d / "in.toml").write_text("")
+        (d / "case.toml").write_text(textwrap.dedent(text))
+        return load_rung(d / "case.toml")
+
+    def test_peer_run_is_read(self):
+        runs = self.rung(PEER_RUNG).runs
+        self.assertEqual([r.code for r in runs], ["narwhal", "openfoam"])
+
+    def test_unknown_code_and_missing_iteration_count_are_named(self):
+        with self.assertRaises(HarnessError) as cm:
+            self.rung(PEER_RUNG.replace('"openfoam"', '"fluent"'))
+        self.assertIn("run[1].code", str(cm.exception))
+        with self.assertRaises(HarnessError) as cm:
+            self.rung(PEER_RUNG.replace("max_iterations = 10\n", ""))
+        self.assertIn("max_iterations", str(cm.exception))
+
+    def test_reference_taken_from_the_peer_run(self):
+        rung = self.rung(PEER_RUNG)
+        dirs = {}
+        for rid, iterations in (("a", 7), ("peer", 11)):
+            dirs[rid] = Path(tempfile.mkdtemp())
+            (dirs[rid] / "run.json").write_text(json.dumps({"iterations": iterations}))
+        ctx = Context(rung, dirs, {"a": {}, "peer": {}})
+        spec = {"extract": {"kind": "run_json", "run": "peer", "field": "iterations"}}
+        value, desc = resolve_reference(ctx, spec, Path("."))
+        self.assertEqual(value, 11.0)
+        self.assertIn("openfoam", desc)
+        self.assertEqual(extract(ctx, {"kind": "run_json", "run": "a", "field": "iterations"}), 7.0)
+
+    def test_reference_from_a_run_takes_no_file_keys(self):
+        with self.assertRaises(HarnessError) as cm:
+            self.rung(GOOD.replace('reference = { file = "x.csv", column = "v" }',
+                                   'reference = { column = "v", extract = { kind = "run_json", run = "a", field = "x" } }'))
+        self.assertIn("check[0].reference", str(cm.exception))
+
+
+if __name__ == "__main__":
+    unittest.main()
+
+
+class AzimuthalPicture(unittest.TestCase):
+    def test_two_runs_at_two_stations_are_drawn(self):
+        from harness import report
+        rung_dir = Path(tempfile.mkdtemp())
+        phi = np.linspace(-3.0, 3.0, 24)
+        for run, shift in (("a", 0.0), ("peer", 0.01)):
+            d = rung_dir / "runs" / run
+            d.mkdir(parents=True)
+            rows = [f"{x},{-0.1 * math.sin(p)},{0.1 * math.cos(p)},{math.cos(p) + shift}"
+                    for x in (0.25, 0.5, 0.75) for p in phi]
+            (d / "surface_body.csv").write_text("# test\nx,y,z,cp\n" + "\n".join(rows) + "\n")
+        pic = {"kind": "azimuthal", "run": "a", "beside": "peer", "stations": [0.3, 0.8], "column": "cp",
+               "group": "body", "title": "Cp around"}
+        self.assertTrue(report._plot_picture(rung_dir, pic, rung_dir / "p.png"))
+        self.assertGreater((rung_dir / "p.png").stat().st_size, 1000)
