@@ -47,9 +47,11 @@ def _write(path, cls, obj, body):
 
 def foam(cmd, cwd, log, timeout=None):
     """An OpenFOAM utility inside its environment (Debian: source etc/bashrc first)."""
+    from .runner import mpi_environment  # runner imports this module where it runs a peer
     script = f"source {FOAM_BASHRC} >/dev/null 2>&1; exec " + " ".join(cmd)
     with open(log, "w") as f:
-        done = subprocess.run(["bash", "-c", script], cwd=cwd, stdout=f, stderr=subprocess.STDOUT, timeout=timeout)
+        done = subprocess.run(["bash", "-c", script], cwd=cwd, stdout=f, stderr=subprocess.STDOUT, timeout=timeout,
+                              env=mpi_environment())
     if done.returncode != 0:
         raise HarnessError(f"OpenFOAM's {cmd[0]} failed (exit {done.returncode}); see {log}")
 
@@ -167,8 +169,10 @@ def run(d, ranks, timeout=None):
     """simpleFoam in d (its mesh in d/constant/polyMesh); the wall time of the solver alone."""
     t0 = time.monotonic()
     if ranks > 1:
+        # Slabs along x, equal in cell count (Debian's OpenFOAM has no scotch).
         _write(d / "system" / "decomposeParDict", "dictionary", "decomposeParDict",
-               f"numberOfSubdomains {ranks};\nmethod scotch;\n")
+               f"numberOfSubdomains {ranks};\nmethod simple;\n"
+               f"simpleCoeffs {{ n ({ranks} 1 1); delta 0.001; }}\n")
         foam(["decomposePar", "-force"], d, d / "log.decomposePar", timeout)
         foam(["mpirun", "-np", str(ranks), "--oversubscribe", "simpleFoam", "-parallel"], d, d / "log.simpleFoam",
              timeout)
