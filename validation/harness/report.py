@@ -260,19 +260,36 @@ def _picture_axial(t, pic, ax):
     ax.legend(fontsize=8)
 
 
+def _around(t, column, station):
+    """(azimuth from +z in degrees, the column) at x = station around the body: along each
+    meridian the column interpolated linearly in x. A grid station's x varies with the
+    azimuth (the meridians start at the pole squares' edges), so faces of one x are not a
+    ring. A meridian's faces are those whose azimuths lie within 0.05 degrees of the next
+    (their centres' azimuths differ by round-off); groups with fewer than half the faces of
+    the longest (the pole squares' faces) are left out."""
+    phi = np.degrees(np.arctan2(-t["y"], t["z"]))
+    order = np.argsort(phi)
+    starts = np.flatnonzero(np.diff(phi[order]) > 0.05) + 1
+    groups = np.split(order, starts)
+    longest = max(g.size for g in groups)
+    out = []
+    for g in groups:
+        x, v = t["x"][g], t[column][g]
+        if g.size >= longest // 2 and x.min() <= station <= x.max():
+            along = np.argsort(x)
+            out.append((float(np.mean(phi[g])), float(np.interp(station, x[along], v[along]))))
+    out.sort()
+    return np.array([a for a, _ in out]), np.array([v for _, v in out])
+
+
 def _picture_azimuthal(tables, pic, ax):
-    """The column against the azimuth from +z at the grid stations nearest pic["stations"]
-    (x / L), one colour per station; the run beside (a peer's) dashed."""
+    """The column against the azimuth from +z at the stations pic["stations"] (x / L), one
+    colour per station; the run beside (a peer's) dashed."""
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for (label, t), style in zip(tables, ("-", "--")):
-        xs = np.unique(np.round(t["x"], 9))
         for n, station in enumerate(pic["stations"]):
-            at = xs[np.argmin(np.abs(xs - station))]
-            faces = np.abs(t["x"] - at) < 1e-9
-            phi = np.degrees(np.arctan2(-t["y"][faces], t["z"][faces]))
-            order = np.argsort(phi)
-            ax.plot(phi[order], t[pic["column"]][faces][order], style, color=colours[n % len(colours)], lw=1.2,
-                    label=f"{label}, x/L = {at:.3f}")
+            phi, v = _around(t, pic["column"], station)
+            ax.plot(phi, v, style, color=colours[n % len(colours)], lw=1.2, label=f"{label}, x/L = {station:g}")
     ax.set_xlabel("azimuth from +z [deg]")
     ax.set_ylabel(pic["column"])
     ax.legend(fontsize=7, ncol=2)

@@ -165,3 +165,14 @@ class AzimuthalPicture(unittest.TestCase):
                "group": "body", "title": "Cp around"}
         self.assertTrue(report._plot_picture(rung_dir, pic, rung_dir / "p.png"))
         self.assertGreater((rung_dir / "p.png").stat().st_size, 1000)
+
+    def test_values_around_come_from_each_meridian_at_the_station(self):
+        from harness import report
+        phi = np.radians(np.arange(-172.5, 180.0, 15.0))
+        rows = [(x + 0.01 * np.cos(p), -np.sin(p), np.cos(p), x * np.cos(p))  # stations slanted in x
+                for x in (0.2, 0.4, 0.6, 0.8) for p in phi]
+        rows.append((0.5, 0.0, 1.0, 99.0))  # a lone face (a pole square's): left out
+        t = {k: np.array([r[n] for r in rows]) for n, k in enumerate(("x", "y", "z", "cp"))}
+        a, v = report._around(t, "cp", 0.5)
+        self.assertEqual(a.size, phi.size)
+        np.testing.assert_allclose(v, (0.5 - 0.01 * np.cos(np.radians(a))) * np.cos(np.radians(a)), atol=1e-12)
