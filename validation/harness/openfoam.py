@@ -218,11 +218,10 @@ def history(d, s):
         if i not in moments or i not in wall:
             continue
         f, m = v[1:], moments[i]  # total, pressure, viscous: 3 components each
-        coeff = lambda arr, off, scale: dict(zip(("x", "y", "z"), (arr[off + j] / scale for j in range(3))))
         parts = {}
         for name, off in (("total", 0), ("pressure", 3), ("friction", 6)):
-            cf, cm = coeff(f, off, q), coeff(m, off, q * s["length"])
-            parts[name] = {"cfx": cf["x"], "cfy": cf["y"], "cfz": cf["z"], "cmx": cm["x"], "cmy": cm["y"], "cmz": cm["z"]}
+            parts[name] = {**{f"cf{a}": f[off + j] / q for j, a in enumerate("xyz")},
+                           **{f"cm{a}": m[off + j] / (q * s["length"]) for j, a in enumerate("xyz")}}
         rows.append((i, wall[i], parts))
     if not rows:
         raise HarnessError(f"{d}: simpleFoam wrote no forces")
@@ -253,7 +252,7 @@ def write_results(d, out, s, solver_seconds):
     window = [r[2]["total"]["cfx"] for r in rows[-20:]]
     span = (max(window) - min(window)) / max(abs(window[-1]), 1e-300)
     cells = _cell_count(d)
-    run_json = {"case": s.get("case", ""), "title": "OpenFOAM simpleFoam peer run", "status": "stopped",
+    run_json = {"title": "OpenFOAM simpleFoam peer run", "status": "stopped",
                 "message": f"simpleFoam ran its {rows[-1][0]} iterations", "iterations": rows[-1][0],
                 "wall_seconds": solver_seconds, "cells": cells, "force_span": span,
                 "forces": {"body": body},
@@ -265,10 +264,7 @@ def write_results(d, out, s, solver_seconds):
 
 
 def _cell_count(d):
-    for line in (d / "log.checkMesh").read_text().splitlines() if (d / "log.checkMesh").exists() else []:
-        m = re.match(r"\s*cells:\s+(\d+)", line)
-        if m:
-            return int(m.group(1))
+    """From the owner file's header note, which narwhal's writer fills as OpenFOAM's does."""
     owner = (d / "constant" / "polyMesh" / "owner").read_text(errors="replace")
     m = re.search(r"nCells:\s*(\d+)", owner)
     return int(m.group(1)) if m else None

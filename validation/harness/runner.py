@@ -150,14 +150,18 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
     return _finish(result, out_dir, started)
 
 
+def _overrides(r):
+    """The run's `set` table as narwhal's --set arguments (for `run` and `grid` alike)."""
+    return [a for k, v in r.set.items() for a in ("--set", f"{k}={v}")]
+
+
 def _run_narwhal(r, rd, n, narwhal, out_dir, remaining):
     """One Narwhal run (under mpirun for n > 1): its entry of result["runs"]."""
     try:
         cmd = mpi_launcher(n) + [str(narwhal), "run", str(r.input), "--out", str(rd)]
     except HarnessError as e:
         return {"id": r.id, "status": "crashed (no MPI launcher)", "message": str(e), "ranks": n}
-    for k, v in r.set.items():
-        cmd += ["--set", f"{k}={v}"]
+    cmd += _overrides(r)
     if r.max_iterations:
         cmd += ["--max-iterations", str(r.max_iterations)]
     if r.restart_from:
@@ -193,8 +197,7 @@ def _run_peer(r, rd, n, narwhal, remaining):
     case_dir = rd / "openfoam"
     shutil.rmtree(case_dir, ignore_errors=True)
     grid_cmd = [str(narwhal), "grid", str(r.input), "--out", str(rd / "grid"), "--openfoam", str(case_dir)]
-    for k, v in r.set.items():
-        grid_cmd += ["--set", f"{k}={v}"]
+    grid_cmd += _overrides(r)
     info["command"] = " ".join(grid_cmd) + f" && simpleFoam ({r.max_iterations} iterations, {n} ranks)"
     started = time.monotonic()
     try:
