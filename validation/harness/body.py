@@ -138,20 +138,112 @@ def body_loads(ctx, spec, run_id):
     return abs(value) if spec.get("absolute", False) else value
 
 
-def azimuthal_mean(t, column, length=1.0):
-    """(x / L of each axial station, the column's mean over the station's wall faces):
-    faces of a surface table whose x agree to 1e-9 L form a station."""
-    xs, inverse = np.unique(np.round(t["x"] / length, 9), return_inverse=True)
-    return xs, np.bincount(inverse, weights=t[column]) / np.bincount(inverse)
+def meridians(t):
+    """The wall faces of a surface table grouped into meridians: (azimuth from +z in
+    degrees, face indices sorted by x) per meridian, by azimuth. A grid station's x varies
+    with the azimuth (the meridians start at the pole squares' edges), so faces of one x
+    are not a ring; a meridian's faces are those whose azimuths lie within 0.05 degrees of
+    the next (their centres' azimuths differ by round-off). Groups with fewer than half
+    the faces of the longest (the pole squares' faces, whose azimuths scatter) are left
+    out."""
+    phi = np.degrees(np.arctan2(-t["y"], t["z"]))
+    order = np.argsort(phi)
+    groups = np.split(order, np.flatnonzero(np.diff(phi[order]) > 0.05) + 1)
+    longest = max(g.size for g in groups)
+    return [(float(np.mean(phi[g])), g[np.argsort(t["x"][g])]) for g in groups if g.size >= longest // 2]
+
+
+def around(t, column, station, lines=None):
+    """(azimuth from +z in degrees, the column) at x = station around the body: along each
+    meridian (`lines`: meridians(t), passed when the caller already has them) the column
+    interpolated linearly in x; meridians that do not reach the station are left out."""
+    out = []
+    for phi, g in (meridians(t) if lines is None else lines):
+        x = t["x"][g]
+        if x[0] <= station <= x[-1]:
+            out.append((phi, float(np.interp(station, x, t[column][g]))))
+    return np.array([a for a, _ in out]), np.array([v for _, v in out])
+
+
+def azimuthal_mean(t, column, x):
+    """The column's mean around the body at each x of `x` (grid units): the trapezoidal
+    rule over the azimuth, periodic, of around()'s values. Where the meridians reaching a
+    station leave a gap wider than four times their median spacing (the station beyond
+    some meridians' ends) the mean is NaN rather than a mean of one side."""
+    lines = meridians(t)
+    mean = np.full(len(x), np.nan)
+    for i, station in enumerate(x):
+        phi, v = around(t, column, station, lines)
+        if phi.size < 3:
+            continue
+        gaps = np.diff(np.append(phi, phi[0] + 360.0))
+        if gaps.max() > 4.0 * np.median(gaps):
+            continue
+        mean[i] = np.sum(0.5 * (v + np.roll(v, -1)) * gaps) / 360.0
+    return mean
+
+
+def meridian_stations(t):
+    """The x of the longest meridian's faces: stations as fine as the grid, for a curve
+    of azimuthal means along the body."""
+    return t["x"][max((g for _, g in meridians(t)), key=len)]
+
+
+def with_crossflow_friction(t):
+    """The surface table with two columns more: r, the face centre's distance from the
+    axis, and cf_phi, the skin friction's component along the azimuth phi (from +z,
+    phi = atan2(-y, z)): cf . e_phi with e_phi = (0, -cos phi, -sin phi), positive where
+    the wall flow turns from windward (phi = 0) towards leeward on the phi > 0 side."""
+    if not all(c in t for c in ("cf_x", "cf_y", "cf_z")):
+        raise HarnessError("the surface table has no skin friction (cf_x, cf_y, cf_z)")
+    phi = np.arctan2(-t["y"], t["z"])
+    return dict(t, r=np.hypot(t["y"], t["z"]), cf_phi=-t["cf_y"] * np.cos(phi) - t["cf_z"] * np.sin(phi))
+
+
+def separation_azimuth(t, station, lines=None):
+    """Where the cross flow separates at x = station: the azimuth from the windward line
+    at which the circumferential skin friction first vanishes going leeward (linear
+    between meridians), the mean of the two sides; NaN where neither side's changes sign.
+    `t`: with_crossflow_friction's table. The zero of the circumferential friction is
+    the usual marker of the primary cross-flow separation line of a body at incidence
+    (where skin-friction lines converge it is nearly parallel to the axis)."""
+    phi, tau = around(t, "cf_phi", station, lines)
+    sides = []
+    for sign in (1.0, -1.0):  # phi > 0 side: flow to leeward has tau > 0; phi < 0 side: tau < 0
+        half = sign * phi >= 0.0
+        a, s = sign * phi[half], sign * tau[half]
+        order = np.argsort(a)
+        a, s = a[order], s[order]
+        crossing = np.flatnonzero((s[:-1] > 0.0) & (s[1:] <= 0.0))
+        if crossing.size:
+            n = crossing[0]
+            sides.append(a[n] + (a[n + 1] - a[n]) * s[n] / (s[n] - s[n + 1]))
+    return float(np.mean(sides)) if sides else float("nan")
+
+
+@extractor("separation_azimuth", "group", "station", "length")
+def separation_azimuth_at(ctx, spec, run_id):
+    """The cross-flow separation line's azimuth from the windward line, in degrees, at
+    x / L = station (separation_azimuth)."""
+    from .extract import _need, read_csv  # extract imports this module to register it
+    group = spec.get("group", "body")
+    path = ctx.run_dir(run_id) / f"surface_{group}.csv"
+    if not path.exists():
+        raise HarnessError(f"run '{run_id}' wrote no {path.name}")
+    station = float(_need(spec, "station", "the axial station x / L"))
+    value = separation_azimuth(with_crossflow_friction(read_csv(path)), station * float(spec.get("length", 1.0)))
+    if not np.isfinite(value):
+        raise HarnessError(f"run '{run_id}': the circumferential skin friction changes sign nowhere at x / L = {station}")
+    return value
 
 
 @extractor("axial_profile", "group", "y", "length", "stations")
 def axial_profile(ctx, spec, run_id):
-    """A surface column (cp, cf_signed, ...) of an axisymmetric flow against x / L: the
-    wall faces' values averaged over azimuth per axial station of the grid (faces whose
-    x agree to 1e-9 L), then interpolated linearly to the x / L of `stations`, a table
-    under reference_data/ ({file, where, x}) — the points its reference is given at.
-    Stations beyond the end faces (a tap on a pole) are left out."""
+    """A surface column (cp, cf_signed, ...) against x / L: its mean around the body
+    (azimuthal_mean: along each meridian interpolated to the station, then averaged over
+    the azimuth) at the x / L of `stations`, a table under reference_data/ ({file, where,
+    x}) — the points its reference is given at. Stations beyond the meridians' end faces
+    (a tap on a pole) are left out."""
     from .extract import _need, read_csv  # extract imports this module to register it
     group = spec.get("group", "body")
     path = ctx.run_dir(run_id) / f"surface_{group}.csv"
@@ -161,20 +253,21 @@ def axial_profile(ctx, spec, run_id):
     column = _need(spec, "y", "the surface column")
     if column not in t:
         raise HarnessError(f"{path.name} has no column '{column}'")
-    xs, mean = azimuthal_mean(t, column, float(spec.get("length", 1.0)))
+    length = float(spec.get("length", 1.0))
     st = _need(spec, "stations", "the table of stations {file, where, x}")
     if not isinstance(st, dict) or "file" not in st or "x" not in st:
         raise HarnessError("axial_profile: 'stations' needs {file, x} and optionally where")
     ref = ReferenceFile(ctx.reference_root, st["file"])
     x0 = ref.column(st["x"], ref.rows_where(st["where"]) if "where" in st else None)
-    # A tap at a pole (x = 0, the stagnation point) lies beyond the first face centre:
-    # left out, and said so in the curve's name, rather than extrapolated.
-    inside = (x0 >= xs[0]) & (x0 <= xs[-1])
+    # A tap at a pole (x = 0, the stagnation point) lies beyond the meridians' first face
+    # centres: left out, and said so in the curve's name, rather than extrapolated.
+    mean = azimuthal_mean(t, column, x0 * length)
+    inside = np.isfinite(mean)
     if not inside.any():
-        raise HarnessError(f"axial_profile: no station inside the wall faces' x / L range [{xs[0]}, {xs[-1]}]")
+        raise HarnessError(f"axial_profile: no station of {st['file']} lies where the meridians reach all around the body")
     dropped = int((~inside).sum())
     name = f"{column}(x/L)" + (f", {dropped} station(s) beyond the end faces left out" if dropped else "")
-    return Curve(x0[inside], np.interp(x0[inside], xs, mean), name)
+    return Curve(x0[inside], mean[inside], name)
 
 
 @extractor("force_part", "group", "part", "component")

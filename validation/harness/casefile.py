@@ -49,9 +49,10 @@ PEER_CODES = ("openfoam",)
 
 # Pictures of a run's surface output: "surface" (the body coloured by a column, in 3-D),
 # "axial" (a column's azimuthal mean along x, with reference points if given) and
-# "azimuthal" (the column around the body at the grid stations nearest `stations`, x / L).
-# `beside`: a second run of the rung (a peer code's) drawn on the same axes.
-PICTURE_KINDS = ("surface", "axial", "azimuthal")
+# "azimuthal" (the column around the body at the stations `stations`, x / L) and
+# "friction_lines" (skin-friction lines on the unrolled body and the cross-flow
+# separation line). `beside`: a second run of the rung (a peer code's) drawn on the same axes.
+PICTURE_KINDS = ("surface", "axial", "azimuthal", "friction_lines")
 
 
 @dataclass

@@ -84,6 +84,7 @@ def case_settings(c, where):
     k = 1.5 * tu * tu
     nut = ratio / re_
     return {"model": t["model"], "nu": 1.0 / re_, "k": k, "omega": k / nut, "epsilon": 0.09 * k * k / nut,
+            "sustain": bool(t.get("sustain_freestream", False)),
             "direction": free_stream_direction(float(flow.get("angle_of_attack", 0.0)), float(flow.get("drift_angle", 0.0))),
             "area": float(out.get("reference_area", 1.0)), "length": float(out.get("reference_length", 1.0)),
             "centre": [float(x) for x in out.get("moment_centre", [0.0, 0.0, 0.0])]}
@@ -118,6 +119,8 @@ def write_case(d, s, iterations):
     for name, (cls, dim, internal, wall, farfield) in fields.items():
         _write(d / "0" / name, cls, name,
                f"dimensions {dim};\ninternalField {internal};\nboundaryField\n{{\n    {wall}\n    {farfield}\n}}\n")
+    if s.get("sustain"):
+        _write(d / "constant" / "fvOptions", "dictionary", "fvOptions", _sustaining_sources(s))
     c = s["centre"]
     _write(d / "system" / "controlDict", "dictionary", "controlDict", f"""
 application simpleFoam;
@@ -131,10 +134,15 @@ functions
         type forces; libs ("libforces.so"); writeControl timeStep; writeInterval 1;
         patches (body); rho rhoInf; rhoInf 1; CofR ({c[0]!r} {c[1]!r} {c[2]!r});
     }}
+    wallShearStress
+    {{
+        type wallShearStress; libs ("libfieldFunctionObjects.so"); patches (body);
+        executeControl writeTime; writeControl writeTime; log false;
+    }}
     wall
     {{
         type surfaces; libs ("libsampling.so"); writeControl onEnd; surfaceFormat raw;
-        fields (p); interpolationScheme cell;
+        fields (p wallShearStress); interpolationScheme cell;
         surfaces ( body {{ type patch; patches (body); interpolate false; }} );
     }}
 }}
@@ -165,6 +173,42 @@ solvers
 SIMPLE { nNonOrthogonalCorrectors 0; consistent no; }
 relaxationFactors { equations { U 0.7; ".*" 0.7; } fields { p 0.3; } }
 """)
+
+
+def sustaining_sources(s):
+    """Per unit volume, the Spalart-Rumsey terms that keep the free stream's turbulence
+    from decaying (narwhal's turbulence.sustain_freestream, TurbulenceSettings): minus
+    each equation's point source at the free-stream values in a uniform flow. SST: k
+    gains beta* k omega, omega gains beta omega^2 with beta = beta_2 (F1 = 0 off the
+    body; narwhal blends with the local F1, which differs only in the wall cells,
+    where the term is negligible). Launder-Sharma (epsilon-tilde; D = 0 in a uniform
+    flow): k gains epsilon, epsilon gains C2 f2 epsilon^2 / k, f2 at the free stream's
+    turbulence Reynolds number."""
+    k = s["k"]
+    if s["model"] == "sst":
+        w = s["omega"]
+        return {"k": 0.09 * k * w, "omega": 0.0828 * w * w}
+    e = s["epsilon"]
+    rt = k * k / (s["nu"] * e)
+    f2 = 1.0 - 0.3 * math.exp(-min(rt * rt, 50.0))
+    return {"k": e, "epsilon": 1.92 * f2 * e * e / k}
+
+
+def _sustaining_sources(s):
+    rates = "\n".join(f"        {name} ({value!r} 0);" for name, value in sustaining_sources(s).items())
+    return f"""
+sustainFreeStream
+{{
+    type scalarSemiImplicitSource;
+    active yes;
+    selectionMode all;
+    volumeMode specific;
+    injectionRateSuSp
+    {{
+{rates}
+    }}
+}}
+"""
 
 
 def run(d, ranks, timeout=None):
@@ -276,18 +320,32 @@ def _foam_version(d):
     return f"OpenFOAM {m.group(1)}" if m else "OpenFOAM"
 
 
-def _write_surface(d, out):
-    """The wall pressure the surfaces function object wrote (raw: x y z p per face) as
-    surface_body.csv (x, y, z, cp) — cp = 2 p with rho = U = 1."""
-    found = sorted((d / "postProcessing" / "wall").glob("*/p_body.raw")) or \
-        sorted((d / "postProcessing" / "wall").glob("*/body/p.raw"))
+def _raw(d, field):
+    """The last raw sample of a field on the patch body (x y z and the values, per face)."""
+    found = sorted((d / "postProcessing" / "wall").glob(f"*/{field}_body.raw")) or \
+        sorted((d / "postProcessing" / "wall").glob(f"*/body/{field}.raw"))
     if not found:
+        return None
+    rows = [line.split() for line in found[-1].read_text().splitlines() if line.strip() and not line.startswith("#")]
+    return [[float(v) for v in r] for r in rows]
+
+
+def _write_surface(d, out):
+    """The wall pressure and shear the surfaces function object wrote (raw: x y z p, and
+    x y z tau per face) as surface_body.csv (x, y, z, cp, cf_x, cf_y, cf_z): cp = 2 p with
+    rho = U = 1; cf = -2 tau, because OpenFOAM's wallShearStress is the stress on the fluid
+    (its face normal into the fluid dotted with R_eff = -nu_eff dev(2 symm grad U)),
+    and narwhal's cf the friction on the body."""
+    p = _raw(d, "p")
+    if p is None:
         return
+    tau = _raw(d, "wallShearStress")
+    if tau is not None and (len(tau) != len(p) or any(a[:3] != b[:3] for a, b in zip(p, tau))):
+        raise HarnessError(f"{d}: the wall pressure and shear samples are not of the same faces")
     with open(out / "surface_body.csv", "w") as f:
-        f.write("# OpenFOAM simpleFoam peer run: wall pressure of the patch body, face centres; cp = 2 p\n")
-        f.write("x,y,z,cp\n")
-        for line in found[-1].read_text().splitlines():
-            if line.startswith("#") or not line.strip():
-                continue
-            x, y, z, p = (float(v) for v in line.split()[:4])
-            f.write(f"{x!r},{y!r},{z!r},{2.0 * p!r}\n")
+        f.write("# OpenFOAM simpleFoam peer run: wall pressure and shear of the patch body, face centres; "
+                "cp = 2 p, cf = -2 wallShearStress\n")
+        f.write("x,y,z,cp" + (",cf_x,cf_y,cf_z" if tau else "") + "\n")
+        for n, (x, y, z, pv) in enumerate(r[:4] for r in p):
+            cf = "".join(f",{-2.0 * v!r}" for v in tau[n][3:6]) if tau else ""
+            f.write(f"{x!r},{y!r},{z!r},{2.0 * pv!r}{cf}\n")

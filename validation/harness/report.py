@@ -16,8 +16,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from . import browser  # noqa: E402
-from .body import azimuthal_mean  # noqa: E402
+from .body import (around, azimuthal_mean, meridian_stations, meridians, separation_azimuth,  # noqa: E402
+                   with_crossflow_friction)
 from .extract import read_csv  # noqa: E402
+from .errors import HarnessError  # noqa: E402
 from .ladder import load_ladder  # noqa: E402
 
 ONE_SIDED = {"max": "≤", "min": "≥"}
@@ -249,8 +251,8 @@ def _picture_surface(t, pic, side, unrolled):
 
 def _picture_axial(t, pic, ax):
     """The column's azimuthal mean along x, with the reference points if any."""
-    xs, mean = azimuthal_mean(t, pic["column"])
-    ax.plot(xs, mean, "-", color="tab:blue", lw=1.2, label="Narwhal (azimuthal mean)")
+    xs = meridian_stations(t)
+    ax.plot(xs, azimuthal_mean(t, pic["column"], xs), "-", color="tab:blue", lw=1.2, label="Narwhal (azimuthal mean)")
     ref = pic.get("reference")
     if ref:
         ax.plot(ref["x"], ref["y"], "ko", ms=5, label=ref["label"])
@@ -260,52 +262,64 @@ def _picture_axial(t, pic, ax):
     ax.legend(fontsize=8)
 
 
-def _around(t, column, station):
-    """(azimuth from +z in degrees, the column) at x = station around the body: along each
-    meridian the column interpolated linearly in x. A grid station's x varies with the
-    azimuth (the meridians start at the pole squares' edges), so faces of one x are not a
-    ring. A meridian's faces are those whose azimuths lie within 0.05 degrees of the next
-    (their centres' azimuths differ by round-off); groups with fewer than half the faces of
-    the longest (the pole squares' faces) are left out."""
-    phi = np.degrees(np.arctan2(-t["y"], t["z"]))
-    order = np.argsort(phi)
-    starts = np.flatnonzero(np.diff(phi[order]) > 0.05) + 1
-    groups = np.split(order, starts)
-    longest = max(g.size for g in groups)
-    out = []
-    for g in groups:
-        x, v = t["x"][g], t[column][g]
-        if g.size >= longest // 2 and x.min() <= station <= x.max():
-            along = np.argsort(x)
-            out.append((float(np.mean(phi[g])), float(np.interp(station, x[along], v[along]))))
-    out.sort()
-    return np.array([a for a, _ in out]), np.array([v for _, v in out])
-
-
 def _picture_azimuthal(tables, pic, ax):
     """The column against the azimuth from +z at the stations pic["stations"] (x / L), one
     colour per station; the run beside (a peer's) dashed."""
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for (label, t), style in zip(tables, ("-", "--")):
         for n, station in enumerate(pic["stations"]):
-            phi, v = _around(t, pic["column"], station)
+            phi, v = around(t, pic["column"], station)
             ax.plot(phi, v, style, color=colours[n % len(colours)], lw=1.2, label=f"{label}, x/L = {station:g}")
     ax.set_xlabel("azimuth from +z [deg]")
     ax.set_ylabel(pic["column"])
     ax.legend(fontsize=7, ncol=2)
 
 
+def _picture_friction_lines(tables, pic, ax):
+    """The first run's skin-friction lines on the body unrolled onto (x, azimuth from
+    the windward line, 0 to 180 degrees), and each run's cross-flow separation line
+    (body.separation_azimuth; the first solid, a run beside dashed). A line's slope is
+    d(phi)/dx = (cf_phi / r) / cf_x, phi in degrees."""
+    t = with_crossflow_friction(tables[0][1])
+    lines = meridians(t)
+    ends = meridian_stations(t)
+    x = np.linspace(ends[0], ends[-1], 161)[4:-4]  # the poles' own faces left out
+    phi = np.linspace(0.0, 180.0, 91)
+    u, v = np.zeros((phi.size, x.size)), np.zeros((phi.size, x.size))
+    for n, station in enumerate(x):
+        cols = [around(t, c, station, lines) for c in ("cf_x", "cf_phi", "r")]
+        a = cols[0][0]
+        half = np.argsort(a)[np.sort(a) >= 0.0]
+        fx, fp, r = (c[1][half] for c in cols)
+        u[:, n] = np.interp(phi, a[half], fx)
+        v[:, n] = np.interp(phi, a[half], fp / r) * 180.0 / np.pi
+    ax.streamplot(x, phi, u, v, density=1.6, color="0.55", linewidth=0.6, arrowsize=0.6)
+    for (label, table), style in zip(tables, ("-", "--")):
+        try:
+            s = with_crossflow_friction(table)
+        except HarnessError:
+            continue  # a run without wall shear: no line
+        sl = meridians(s)
+        ax.plot(x, [separation_azimuth(s, station, sl) for station in x], style, color="tab:red", lw=1.5,
+                label=f"{label}: separation line (circumferential cf = 0)")
+    ax.set_xlim(x[0], x[-1])
+    ax.set_ylim(0.0, 180.0)
+    ax.set_xlabel("x / L")
+    ax.set_ylabel("azimuth from windward [deg]")
+    ax.legend(fontsize=7, loc="lower left")
+
+
 def _plot_picture(rung_dir, pic, path):
     t = _surface_table(rung_dir, pic)
     if t is None:
         return False
-    if pic["kind"] == "azimuthal":
+    if pic["kind"] in ("azimuthal", "friction_lines"):
         tables = [(pic["run"], t)]
         other = _surface_table(rung_dir, dict(pic, run=pic["beside"])) if pic.get("beside") else None
         if other is not None:
             tables.append((pic["beside"], other))
         fig, ax = plt.subplots(figsize=(7.5, 4.6))
-        _picture_azimuthal(tables, pic, ax)
+        (_picture_azimuthal if pic["kind"] == "azimuthal" else _picture_friction_lines)(tables, pic, ax)
     elif pic["kind"] == "surface":
         fig, (ax, below) = plt.subplots(2, 1, figsize=(7.5, 5.6), gridspec_kw={"height_ratios": [1, 2]})
         sc = _picture_surface(t, pic, ax, below)

@@ -31,14 +31,17 @@ class Ctx:
         return self.alpha if isinstance(value, str) and value.startswith("input:") else value
 
 
-def write_surface(path, cp_of):
-    """Faces of a 6:1 spheroid of length 1 on a fine (x, phi) lattice, Cp = cp_of(x, phi)."""
+def write_surface(path, cp_of, slant=0.0):
+    """Faces of a 6:1 spheroid of length 1 on a fine (x, phi) lattice, Cp = cp_of(x, phi);
+    `slant`: each station's faces shifted in x by slant cos(phi), as on narwhal's grids,
+    whose meridians start at the pole squares' edges."""
     rows = ["# hand-made surface", "x,y,z,nx,ny,nz,area,cp,cf_x,cf_y,cf_z,cf_signed,y_plus"]
     for x in np.linspace(0.002, 0.998, 400):
         r = math.sqrt(max(0.0, 1.0 - (2 * x - 1) ** 2)) / 12.0
         for p in np.radians(np.arange(1.25, 360.0, 2.5)):
             y, z = -r * math.sin(p), r * math.cos(p)  # phi from +z (windward)
-            rows.append(f"{x},{y},{z},0,0,0,1,{cp_of(x, math.degrees(min(p, 2 * math.pi - p)))},0,0,0,0,0")
+            xf = x + slant * math.cos(p)
+            rows.append(f"{xf},{y},{z},0,0,0,1,{cp_of(xf, math.degrees(min(p, 2 * math.pi - p)))},0,0,0,0,0")
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(rows) + "\n")
 
@@ -123,7 +126,20 @@ class AxialProfileAndNewtons(unittest.TestCase):
             x = ref.column("x_over_L", ref.rows_where({"quantity": "Cp upper meridian"}))
             self.assertEqual(curve.x.tolist(), x[1:].tolist())  # the tap at the nose (x = 0) is left out
             self.assertIn("1 station(s)", curve.label)
-            self.assertLess(np.max(np.abs(curve.y - curve.x)), 1e-8)  # stations grouped to 1e-9 in x
+            self.assertLess(np.max(np.abs(curve.y - curve.x)), 1e-12)
+
+    def test_the_mean_around_follows_the_meridians_where_a_station_is_not_a_ring(self):
+        # Cp = x + 0.3 cos(phi) (a flow at incidence) on faces whose x varies around each
+        # station: grouping faces by x would see no ring at all; along the meridians the
+        # mean around is x, and the cos(phi) part averages out.
+        with tempfile.TemporaryDirectory() as d:
+            write_surface(Path(d) / "run" / "surface_body.csv",
+                          lambda x, phi: x + 0.3 * math.cos(math.radians(phi)), slant=0.004)
+            fn = EXTRACT["axial_profile"][0]
+            stations = {"file": AFF1, "where": {"quantity": "Cp upper meridian"}, "x": "x_over_L"}
+            curve = fn(Ctx(d), {"y": "cp", "stations": stations}, "run")
+            self.assertGreater(curve.x.size, 3)
+            self.assertLess(np.max(np.abs(curve.y - curve.x)), 1e-12)
 
     def test_a_coefficient_in_newtons_and_the_parts_of_a_force(self):
         with tempfile.TemporaryDirectory() as d:
@@ -142,3 +158,58 @@ class AxialProfileAndNewtons(unittest.TestCase):
             from harness.errors import HarnessError
             with self.assertRaises(HarnessError):
                 parts(Ctx(d), {"part": "viscous"}, "run")
+
+
+def crossflow_table(separation_of_x, slant=0.003):
+    """Faces on meridians every 5 degrees (from 2.5), stations slanted in x as on
+    narwhal's grids; circumferential friction c (phi_s(x) - |phi|) toward leeward on
+    each side, linear in phi and x, so that it vanishes at phi_s(x) exactly."""
+    rows = []
+    for x0 in np.linspace(0.05, 0.95, 19):
+        for p in np.arange(-177.5, 180.0, 5.0):
+            x = x0 + slant * math.cos(math.radians(p))
+            r = 0.08
+            a = math.radians(p)
+            e_phi = np.array([0.0, -math.cos(a), -math.sin(a)])
+            tau = 1e-3 * (separation_of_x(x) - abs(p)) * (1.0 if p > 0 else -1.0)
+            cf = np.array([3e-3, 0.0, 0.0]) + tau * e_phi
+            rows.append((x, -r * math.sin(a), r * math.cos(a), *cf))
+    return {k: np.array([row[n] for row in rows]) for n, k in enumerate(("x", "y", "z", "cf_x", "cf_y", "cf_z"))}
+
+
+class CrossflowSeparation(unittest.TestCase):
+    def test_the_zero_of_the_circumferential_friction_is_found_on_both_sides(self):
+        from harness import body
+        t = body.with_crossflow_friction(crossflow_table(lambda x: 100.0 + 50.0 * x))
+        for station in (0.3, 0.62, 0.8):
+            self.assertAlmostEqual(body.separation_azimuth(t, station), 100.0 + 50.0 * station, places=9)
+
+    def test_no_sign_change_is_nan_and_the_extractor_says_so(self):
+        from harness import body
+        from harness.errors import HarnessError
+        t = crossflow_table(lambda x: 400.0)  # the cross flow never turns back
+        self.assertTrue(math.isnan(body.separation_azimuth(body.with_crossflow_friction(t), 0.5)))
+        with tempfile.TemporaryDirectory() as d:
+            run = Path(d) / "run"
+            run.mkdir()
+            names = ("x", "y", "z", "cf_x", "cf_y", "cf_z")
+            rows = "\n".join(",".join(repr(float(t[k][i])) for k in names) for i in range(t["x"].size))
+            (run / "surface_body.csv").write_text("# hand-made\n" + ",".join(names) + "\n" + rows + "\n")
+            fn = EXTRACT["separation_azimuth"][0]
+            with self.assertRaises(HarnessError) as cm:
+                fn(Ctx(d), {"station": 0.5}, "run")
+            self.assertIn("changes sign nowhere", str(cm.exception))
+            t2 = crossflow_table(lambda x: 120.0)
+            rows = "\n".join(",".join(repr(float(t2[k][i])) for k in names) for i in range(t2["x"].size))
+            (run / "surface_body.csv").write_text("# hand-made\n" + ",".join(names) + "\n" + rows + "\n")
+            self.assertAlmostEqual(fn(Ctx(d), {"station": 0.5}, "run"), 120.0, places=9)
+
+    def test_friction_lines_picture_draws_with_a_peer_without_wall_shear(self):
+        from harness import report
+        import matplotlib.pyplot as plt
+        t = crossflow_table(lambda x: 100.0 + 50.0 * x)
+        peer = {k: t[k] for k in ("x", "y", "z")}
+        fig, ax = plt.subplots()
+        report._picture_friction_lines([("a", t), ("peer", peer)], {}, ax)
+        self.assertEqual(len(ax.get_legend().get_texts()), 1)
+        plt.close(fig)

@@ -2,6 +2,7 @@
 Narwhal case, and the conversion of simpleFoam's forces to Narwhal's run.json layout."""
 import json
 import math
+import re
 import tempfile
 import textwrap
 import unittest
@@ -69,6 +70,29 @@ class PeerCase(unittest.TestCase):
         self.assertFalse((d / "0" / "omega").exists())
         self.assertIn("LaunderSharmaKE", (d / "constant" / "turbulenceProperties").read_text())
 
+    def test_a_sustained_free_stream_gains_its_ambient_destruction(self):
+        for model, second in (("launder-sharma", "epsilon"), ("sst", "omega")):
+            case = dict(CASE, turbulence=dict(CASE["turbulence"], model=model))
+            d = Path(tempfile.mkdtemp())
+            openfoam.write_case(d, openfoam.case_settings(case, "case.toml"), 10)
+            self.assertFalse((d / "constant" / "fvOptions").exists())
+            case["turbulence"]["sustain_freestream"] = True
+            s = openfoam.case_settings(case, "case.toml")
+            openfoam.write_case(d, s, 10)
+            text = (d / "constant" / "fvOptions").read_text()
+            self.assertIn("scalarSemiImplicitSource", text)
+            rates = {m[0]: float(m[1]) for m in re.findall(r"^\s+(k|epsilon|omega) \(([-+0-9.e]+) 0\);$", text, re.M)}
+            k = s["k"]
+            if model == "sst":  # beta* k omega and beta_2 omega^2 (Menter 2003)
+                want = {"k": 0.09 * k * s["omega"], "omega": 0.0828 * s["omega"] ** 2}
+            else:  # epsilon-tilde, and C2 f2 eps^2 / k with Rt = k^2 / (nu eps) of the free stream
+                e = s["epsilon"]
+                f2 = 1.0 - 0.3 * math.exp(-min((k * k / (2.5e-7 * e)) ** 2, 50.0))
+                want = {"k": e, "epsilon": 1.92 * f2 * e * e / k}
+            self.assertEqual(set(rates), {"k", second})
+            for name, value in want.items():
+                self.assertAlmostEqual(rates[name] / value, 1.0, places=12)
+
     def test_forces_become_coefficients_in_body_axes(self):
         d = Path(tempfile.mkdtemp())
         s = openfoam.case_settings(CASE, "case.toml")
@@ -93,6 +117,23 @@ class PeerCase(unittest.TestCase):
         history = (d / "out" / "history.csv").read_text().splitlines()
         self.assertEqual(history[1].split(",")[:3], ["iteration", "wall_s", "body_cfx"])
         self.assertEqual(len(history), 2 + 3)
+
+    def test_wall_samples_become_pressure_and_friction_coefficients_on_the_body(self):
+        d = Path(tempfile.mkdtemp())
+        s = openfoam.case_settings(CASE, "case.toml")
+        fake_foam_run(d / "foam", [(1.0, 0.0, 0.0)] * 3, [(0.0, 0.0, 0.0)] * 3)
+        wall = d / "foam" / "postProcessing" / "wall" / "3"
+        wall.mkdir(parents=True)
+        (wall / "p_body.raw").write_text("#  x  y  z  p\n0.5 0 0.1 -0.25\n0.6 0.1 0 0.125\n")
+        # the stress on the fluid: along -x where the flow drags the body along +x
+        (wall / "wallShearStress_body.raw").write_text("#  x  y  z  tau\n0.5 0 0.1 -0.001 0 0\n0.6 0.1 0 -0.002 0 0.0005\n")
+        openfoam.write_results(d / "foam", d / "out", s, 1.0)
+        lines = (d / "out" / "surface_body.csv").read_text().splitlines()
+        self.assertEqual(lines[1], "x,y,z,cp,cf_x,cf_y,cf_z")
+        self.assertEqual([float(v) for v in lines[3].split(",")], [0.6, 0.1, 0.0, 0.25, 0.004, -0.0, -0.001])
+        (wall / "wallShearStress_body.raw").write_text("#  x  y  z  tau\n0.5 0 0.1 -0.001 0 0\n")
+        with self.assertRaises(HarnessError):
+            openfoam.write_results(d / "foam", d / "out", s, 1.0)
 
     def test_no_force_output_is_an_error_naming_the_directory(self):
         d = Path(tempfile.mkdtemp())
@@ -167,12 +208,12 @@ class AzimuthalPicture(unittest.TestCase):
         self.assertGreater((rung_dir / "p.png").stat().st_size, 1000)
 
     def test_values_around_come_from_each_meridian_at_the_station(self):
-        from harness import report
+        from harness import body
         phi = np.radians(np.arange(-172.5, 180.0, 15.0))
         rows = [(x + 0.01 * np.cos(p), -np.sin(p), np.cos(p), x * np.cos(p))  # stations slanted in x
                 for x in (0.2, 0.4, 0.6, 0.8) for p in phi]
         rows.append((0.5, 0.0, 1.0, 99.0))  # a lone face (a pole square's): left out
         t = {k: np.array([r[n] for r in rows]) for n, k in enumerate(("x", "y", "z", "cp"))}
-        a, v = report._around(t, "cp", 0.5)
+        a, v = body.around(t, "cp", 0.5)
         self.assertEqual(a.size, phi.size)
         np.testing.assert_allclose(v, (0.5 - 0.01 * np.cos(np.radians(a))) * np.cos(np.radians(a)), atol=1e-12)
