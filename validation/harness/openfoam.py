@@ -9,9 +9,12 @@ Both codes solve the same non-dimensional problem: U = 1 along the case's free s
 nu = 1 / Re, the case's free-stream turbulence, rho = 1; coefficients on 1/2 U^2 A_ref
 (and A_ref L_ref for moments) about the case's moment centre.
 
-Schemes (second order, bounded where OpenFOAM's steady solver needs it): linearUpwind for
-momentum, limitedLinear for k and omega, cell-limited gradients, limited non-orthogonal
-correction (the body grids' non-orthogonality reaches 60 degrees near the pole squares);
+Schemes as narwhal's where OpenFOAM has them: linearUpwind for momentum (second order,
+with cell-limited gradients), first-order upwind for k, omega and epsilon (narwhal's
+turbulence convection, NUMERICS §8.6; with limitedLinear for them the 883 k-cell spheroid
+diverged at iteration 130, omega unbounded from the first iterations), limited
+non-orthogonal correction (the body grids' non-orthogonality reaches 60 degrees near the
+pole squares);
 SIMPLE with GAMG for the pressure, relaxed 0.3 (p) and 0.7 (U, k, omega). SIMPLEC (p
 unrelaxed, U 0.8) converged on the 53 k-cell spheroid grid but diverged from the first
 iterations on the 426 k one (wall cells' aspect ratio near 8000). OpenFOAM (Debian package `openfoam`) is installed by
@@ -154,9 +157,9 @@ divSchemes
 {
     default none;
     div(phi,U) bounded Gauss linearUpwind grad(U);
-    div(phi,k) bounded Gauss limitedLinear 1;
-    div(phi,omega) bounded Gauss limitedLinear 1;
-    div(phi,epsilon) bounded Gauss limitedLinear 1;
+    div(phi,k) bounded Gauss upwind;
+    div(phi,omega) bounded Gauss upwind;
+    div(phi,epsilon) bounded Gauss upwind;
     div((nuEff*dev2(T(grad(U))))) Gauss linear;
 }
 laplacianSchemes { default Gauss linear limited corrected 0.5; }
