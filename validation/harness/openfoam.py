@@ -11,8 +11,8 @@ nu = 1 / Re, the case's free-stream turbulence, rho = 1; coefficients on 1/2 U^2
 
 Schemes as narwhal's where OpenFOAM has them: linearUpwind for momentum (second order,
 with cell-limited gradients), first-order upwind for k, omega and epsilon (narwhal's
-turbulence convection, NUMERICS §8.6; with limitedLinear for them the 883 k-cell spheroid
-diverged at iteration 130, omega unbounded from the first iterations), limited
+turbulence convection, NUMERICS §8.6; with limitedLinear omega went negative from the
+third iteration on the 883 k-cell spheroid grid, with upwind it did not), limited
 non-orthogonal correction (the body grids' non-orthogonality reaches 60 degrees near the
 pole squares);
 SIMPLE with GAMG for the pressure, relaxed 0.3 (p) and 0.7 (U, k, omega). SIMPLEC (p
