@@ -87,7 +87,6 @@ def case_settings(c, where):
     k = 1.5 * tu * tu
     nut = ratio / re_
     return {"model": t["model"], "nu": 1.0 / re_, "k": k, "omega": k / nut, "epsilon": 0.09 * k * k / nut,
-            "sustain": bool(t.get("sustain_freestream", False)),
             "direction": free_stream_direction(float(flow.get("angle_of_attack", 0.0)), float(flow.get("drift_angle", 0.0))),
             "area": float(out.get("reference_area", 1.0)), "length": float(out.get("reference_length", 1.0)),
             "centre": [float(x) for x in out.get("moment_centre", [0.0, 0.0, 0.0])]}
@@ -122,8 +121,6 @@ def write_case(d, s, iterations):
     for name, (cls, dim, internal, wall, farfield) in fields.items():
         _write(d / "0" / name, cls, name,
                f"dimensions {dim};\ninternalField {internal};\nboundaryField\n{{\n    {wall}\n    {farfield}\n}}\n")
-    if s.get("sustain"):
-        _write(d / "constant" / "fvOptions", "dictionary", "fvOptions", _sustaining_sources(s))
     c = s["centre"]
     _write(d / "system" / "controlDict", "dictionary", "controlDict", f"""
 application simpleFoam;
@@ -176,42 +173,6 @@ solvers
 SIMPLE { nNonOrthogonalCorrectors 0; consistent no; }
 relaxationFactors { equations { U 0.7; ".*" 0.7; } fields { p 0.3; } }
 """)
-
-
-def sustaining_sources(s):
-    """Per unit volume, the Spalart-Rumsey terms that keep the free stream's turbulence
-    from decaying (narwhal's turbulence.sustain_freestream, TurbulenceSettings): minus
-    each equation's point source at the free-stream values in a uniform flow. SST: k
-    gains beta* k omega, omega gains beta omega^2 with beta = beta_2 (F1 = 0 off the
-    body; narwhal blends with the local F1, which differs only in the wall cells,
-    where the term is negligible). Launder-Sharma (epsilon-tilde; D = 0 in a uniform
-    flow): k gains epsilon, epsilon gains C2 f2 epsilon^2 / k, f2 at the free stream's
-    turbulence Reynolds number."""
-    k = s["k"]
-    if s["model"] == "sst":
-        w = s["omega"]
-        return {"k": 0.09 * k * w, "omega": 0.0828 * w * w}
-    e = s["epsilon"]
-    rt = k * k / (s["nu"] * e)
-    f2 = 1.0 - 0.3 * math.exp(-min(rt * rt, 50.0))
-    return {"k": e, "epsilon": 1.92 * f2 * e * e / k}
-
-
-def _sustaining_sources(s):
-    rates = "\n".join(f"        {name} ({value!r} 0);" for name, value in sustaining_sources(s).items())
-    return f"""
-sustainFreeStream
-{{
-    type scalarSemiImplicitSource;
-    active yes;
-    selectionMode all;
-    volumeMode specific;
-    injectionRateSuSp
-    {{
-{rates}
-    }}
-}}
-"""
 
 
 def run(d, ranks, timeout=None):
