@@ -9,10 +9,10 @@ Both codes solve the same non-dimensional problem: U = 1 along the case's free s
 nu = 1 / Re, the case's free-stream turbulence, rho = 1; coefficients on 1/2 U^2 A_ref
 (and A_ref L_ref for moments) about the case's moment centre.
 
-Schemes as narwhal's where OpenFOAM has them: linearUpwind for momentum (second order,
-with cell-limited gradients), first-order upwind for k, omega and epsilon (narwhal's
-turbulence convection, NUMERICS §8.6; with limitedLinear omega went negative from the
-third iteration on the 883 k-cell spheroid grid, with upwind it did not), limited
+Schemes (second order, bounded where OpenFOAM's steady solver needs it): linearUpwind for
+momentum, limitedLinear for k and omega, cell-limited gradients. First-order upwind for
+k and omega, as narwhal convects them (NUMERICS §8.6), made the 426 k-cell spheroid
+diverge near iteration 110 (it converges with limitedLinear); limited
 non-orthogonal correction (the body grids' non-orthogonality reaches 60 degrees near the
 pole squares);
 SIMPLE with GAMG for the pressure, relaxed 0.3 (p) and 0.7 (U, k, omega). SIMPLEC (p
@@ -154,9 +154,9 @@ divSchemes
 {
     default none;
     div(phi,U) bounded Gauss linearUpwind grad(U);
-    div(phi,k) bounded Gauss upwind;
-    div(phi,omega) bounded Gauss upwind;
-    div(phi,epsilon) bounded Gauss upwind;
+    div(phi,k) bounded Gauss limitedLinear 1;
+    div(phi,omega) bounded Gauss limitedLinear 1;
+    div(phi,epsilon) bounded Gauss limitedLinear 1;
     div((nuEff*dev2(T(grad(U))))) Gauss linear;
 }
 laplacianSchemes { default Gauss linear limited corrected 0.5; }
