@@ -55,6 +55,15 @@ def _tap_rows(ctx, taps):
     return ref.column(taps.get("x", "x_over_L"), rows), ref.column(taps.get("phi", "phi_deg"), rows)
 
 
+def run_surface(ctx, spec, run_id):
+    """The run's surface table of the extraction's wall group (default "body")."""
+    from .extract import read_csv  # extract imports this module to register it
+    path = ctx.run_dir(run_id) / f"surface_{spec.get('group', 'body')}.csv"
+    if not path.exists():
+        raise HarnessError(f"run '{run_id}' wrote no {path.name}")
+    return read_csv(path)
+
+
 @extractor("surface_taps", "group", "taps", "length", "windward", "exclude_pole_stations")
 def surface_taps(ctx, spec, run_id):
     """Surface Cp at pressure taps (x / L, azimuth phi from the windward meridian) on
@@ -65,12 +74,8 @@ def surface_taps(ctx, spec, run_id):
     extrapolation along a direction the grid is coarse in. The taps of the
     `exclude_pole_stations` stations nearest each pole are left out. Returns a Curve
     over the taps' row numbers (the reference side uses x = "#row")."""
-    from .extract import _need, read_csv  # extract imports this module to register it
-    group = spec.get("group", "body")
-    path = ctx.run_dir(run_id) / f"surface_{group}.csv"
-    if not path.exists():
-        raise HarnessError(f"run '{run_id}' wrote no {path.name}")
-    t = read_csv(path)
+    from .extract import _need  # extract imports this module to register it
+    t = run_surface(ctx, spec, run_id)
     length = float(spec.get("length", 1.0))
     wind = np.asarray(spec.get("windward", [0.0, 0.0, 1.0]), dtype=float)
     wind /= np.linalg.norm(wind)
@@ -183,10 +188,10 @@ def azimuthal_mean(t, column, x):
     return mean
 
 
-def meridian_stations(t):
+def meridian_stations(t, lines=None):
     """The x of the longest meridian's faces: stations as fine as the grid, for a curve
-    of azimuthal means along the body."""
-    return t["x"][max((g for _, g in meridians(t)), key=len)]
+    of azimuthal means along the body (`lines`: meridians(t), when the caller has them)."""
+    return t["x"][max((g for _, g in (meridians(t) if lines is None else lines)), key=len)]
 
 
 def with_crossflow_friction(t):
@@ -225,13 +230,9 @@ def separation_azimuth(t, station, lines=None):
 def separation_azimuth_at(ctx, spec, run_id):
     """The cross-flow separation line's azimuth from the windward line, in degrees, at
     x / L = station (separation_azimuth)."""
-    from .extract import _need, read_csv  # extract imports this module to register it
-    group = spec.get("group", "body")
-    path = ctx.run_dir(run_id) / f"surface_{group}.csv"
-    if not path.exists():
-        raise HarnessError(f"run '{run_id}' wrote no {path.name}")
+    from .extract import _need  # extract imports this module to register it
     station = float(_need(spec, "station", "the axial station x / L"))
-    value = separation_azimuth(with_crossflow_friction(read_csv(path)), station * float(spec.get("length", 1.0)))
+    value = separation_azimuth(with_crossflow_friction(run_surface(ctx, spec, run_id)), station * float(spec.get("length", 1.0)))
     if not np.isfinite(value):
         raise HarnessError(f"run '{run_id}': the circumferential skin friction changes sign nowhere at x / L = {station}")
     return value
@@ -244,15 +245,11 @@ def axial_profile(ctx, spec, run_id):
     the azimuth) at the x / L of `stations`, a table under reference_data/ ({file, where,
     x}) — the points its reference is given at. Stations beyond the meridians' end faces
     (a tap on a pole) are left out."""
-    from .extract import _need, read_csv  # extract imports this module to register it
-    group = spec.get("group", "body")
-    path = ctx.run_dir(run_id) / f"surface_{group}.csv"
-    if not path.exists():
-        raise HarnessError(f"run '{run_id}' wrote no {path.name}")
-    t = read_csv(path)
+    from .extract import _need  # extract imports this module to register it
+    t = run_surface(ctx, spec, run_id)
     column = _need(spec, "y", "the surface column")
     if column not in t:
-        raise HarnessError(f"{path.name} has no column '{column}'")
+        raise HarnessError(f"surface_{spec.get('group', 'body')}.csv of run '{run_id}' has no column '{column}'")
     length = float(spec.get("length", 1.0))
     st = _need(spec, "stations", "the table of stations {file, where, x}")
     if not isinstance(st, dict) or "file" not in st or "x" not in st:

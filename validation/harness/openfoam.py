@@ -10,15 +10,13 @@ nu = 1 / Re, the case's free-stream turbulence, rho = 1; coefficients on 1/2 U^2
 (and A_ref L_ref for moments) about the case's moment centre.
 
 Schemes (second order, bounded where OpenFOAM's steady solver needs it): linearUpwind for
-momentum, limitedLinear for k and omega, cell-limited gradients. First-order upwind for
-k and omega, as narwhal convects them (NUMERICS §8.6), made the 426 k-cell spheroid
-diverge near iteration 110 (it converges with limitedLinear); limited
-non-orthogonal correction (the body grids' non-orthogonality reaches 60 degrees near the
-pole squares);
-SIMPLE with GAMG for the pressure, relaxed 0.3 (p) and 0.7 (U, k, omega). SIMPLEC (p
-unrelaxed, U 0.8) converged on the 53 k-cell spheroid grid but diverged from the first
-iterations on the 426 k one (wall cells' aspect ratio near 8000). OpenFOAM (Debian package `openfoam`) is installed by
-ci/nightly only, never by CI.
+momentum, limitedLinear for k and omega (first-order upwind, as narwhal convects them,
+NUMERICS §8.6, made the 426 k-cell spheroid diverge near iteration 110), cell-limited
+gradients, limited non-orthogonal correction (the body grids' non-orthogonality reaches 60
+degrees near the pole squares); SIMPLE with GAMG for the pressure, relaxed 0.3 (p) and 0.7
+(U, k, omega). SIMPLEC (p unrelaxed, U 0.8) converged on the 53 k-cell spheroid grid but
+diverged from the first iterations on the 426 k one (wall cells' aspect ratio near 8000).
+OpenFOAM (Debian package `openfoam`) is installed by ci/nightly only, never by CI.
 """
 import json
 import math

@@ -282,7 +282,7 @@ def _picture_friction_lines(tables, pic, ax):
     d(phi)/dx = (cf_phi / r) / cf_x, phi in degrees."""
     t = with_crossflow_friction(tables[0][1])
     lines = meridians(t)
-    ends = meridian_stations(t)
+    ends = meridian_stations(t, lines)
     x = np.linspace(ends[0], ends[-1], 161)[4:-4]  # the poles' own faces left out
     phi = np.linspace(0.0, 180.0, 91)
     u, v = np.zeros((phi.size, x.size)), np.zeros((phi.size, x.size))
