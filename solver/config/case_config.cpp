@@ -359,6 +359,11 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                              Range::between(0, 1));
   st.window = r.integer_or("turbulence.start.window", st.window, "cycles over which the start's force span is taken",
                            Range::between(1, 1e6));
+  t.sustain_freestream = r.boolean_or("turbulence.sustain_freestream", t.sustain_freestream,
+                                      "whether the free-stream turbulence is sustained against its decay (Spalart-Rumsey)");
+  if (t.sustain_freestream && (t.model == "laminar" || t.model == "baldwin-lomax"))
+    r.error("turbulence.sustain_freestream", "a sustained free stream needs a transport model (sa, sst or a k-epsilon), got '" +
+                                                 t.model + "'");
   t = with_model_defaults(t);  // what was left open, from the model
   t.max_growth = r.number_or("turbulence.max_growth", t.max_growth,
                              "the largest factor by which k, epsilon or omega may grow in one step", Range::above(1));

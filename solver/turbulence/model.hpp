@@ -72,6 +72,15 @@ struct TurbulenceSettings {
   // to 6e-6); with 2 MK's converged to another solution, with local Cf spikes of
   // +9 % (its y+ damping makes the discrete solution non-unique).
   Real max_growth = 10.0;
+  // Sustained free stream (Spalart & Rumsey 2007, AIAA J. 45(10)): every cell gains the
+  // negative of the model's point source at the free-stream values in a uniform flow
+  // (two-equation models: k gains its ambient destruction, epsilon or omega theirs), so
+  // that a uniform free stream is an exact solution and its turbulence reaches a body
+  // 15 lengths away undecayed instead of dying out on the way (a low-Re k-epsilon's
+  // boundary layers then turn turbulent as the free stream's do). Near a body the
+  // added terms are the size of the ambient destruction, small beside the boundary
+  // layer's.
+  bool sustain_freestream = false;
   // Baldwin-Lomax: F_max from the first peak (Degani-Schiff cut-off, for bodies at
   // incidence with off-body vortices) instead of the line's global maximum.
   bool degani_schiff = false;

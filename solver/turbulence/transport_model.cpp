@@ -341,6 +341,19 @@ void TransportModel::assemble_boundary_faces(const Block& b, int ib, const FlowF
   }
 }
 
+// The sustaining term of TurbulenceSettings::sustain_freestream: minus the point
+// source of the free-stream values in a uniform flow (no gradients) at this cell's
+// wall distance and viscosity. A constant per cell: the Jacobians below do not see it.
+TurbState TransportModel::sustaining_source(const TurbState& inf, const CellFlow& c) const {
+  CellFlow still;
+  still.grad_u = Mat3::Zero();
+  still.grad_phi.setZero();
+  still.d = c.d;
+  still.nu = c.nu;
+  still.u_tau = c.u_tau;
+  return -source(inf, still).value;
+}
+
 // Point sources and the pseudo-time term; the point blocks M. Adds the squared
 // residuals per variable to sums[0..1].
 void TransportModel::assemble_sources(const Block& b, int ib, const FlowField& f, const FlowParams& fp, Real cfl_t,
@@ -366,8 +379,11 @@ void TransportModel::assemble_sources(const Block& b, int ib, const FlowField& f
       J.col(m) = (source(shifted, cfw).value - src.value) / h;
       implicit[m] = std::max(implicit[m], -J(m, m));
     }
+    // The sustaining term is a constant of the cell: added after the Jacobian, which
+    // is the difference of the model's own source.
+    const TurbState value = settings_.sustain_freestream ? TurbState(src.value + sustaining_source(inf, cfw)) : src.value;
     const Real V = b.vol(c);
-    w.R(c) -= V * src.value;
+    w.R(c) -= V * value;
     w.D(c) += V * implicit + TurbState::Constant(w.lam(c) / cfl_t);
     for (int m = 0; m < nv; ++m) {
       if (!(w.D(c)[m] > 0.0)) w.D(c)[m] = w.lam(c) > 0.0 ? w.lam(c) : 1.0;  // keep the relaxation defined

@@ -86,6 +86,7 @@ class TransportModel : public TurbulenceModel {
     return {g, g};
   }
   virtual PointSource source(const TurbState& phi, const CellFlow& c) const = 0;
+  TurbState sustaining_source(const TurbState& inf, const CellFlow& c) const;
   virtual Real nut(const TurbState& phi, const CellFlow& c) const = 0;
   // Models with a non-linear Reynolds stress (§8.5): its cell value from the cell's
   // variables and nu_t, stored in FlowField::tau_nl whenever nu_t is updated.

@@ -85,6 +85,16 @@ TEST(Hardening, CflMaxBelowCflStartIsRefused) {
   EXPECT_NE(e.find("key 'solver.cfl_max'"), std::string::npos) << e;
 }
 
+TEST(Hardening, SustainedFreeStreamNeedsATransportModel) {
+  for (const char* model : {"laminar", "baldwin-lomax"}) {
+    const std::string e =
+        error_with({std::string("turbulence.model=\"") + model + "\"", "turbulence.sustain_freestream=true"});
+    EXPECT_NE(e.find("key 'turbulence.sustain_freestream'"), std::string::npos) << model << ": " << e;
+    EXPECT_NE(e.find("transport model"), std::string::npos) << e;
+  }
+  EXPECT_EQ(error_with({"turbulence.model=\"sst\"", "turbulence.sustain_freestream=true"}), "");
+}
+
 // ---- --set into arrays of tables and patch ranges ------------------------------------
 
 struct Plot3dCase {

@@ -357,6 +357,88 @@ TEST(TransportModel, UniformFreeStreamStaysUniformOnAPerturbedGrid) {
   EXPECT_LE(worst, 1e-12);
 }
 
+// Spalart-Rumsey sustaining terms (TurbulenceSettings::sustain_freestream): without
+// them a uniform free stream's k and epsilon (omega) decay, with them the uniform
+// free stream is an exact discrete solution of every two-equation model.
+TEST(TransportModel, SustainedFreeStreamDoesNotDecay) {
+  Grid g;
+  Block b = make_perturbed_box("box", 6, 0.05);
+  randomly_perturb(b, 0.2, 7, false);
+  g.blocks.push_back(std::move(b));
+  const Vec3 vinf(1.0, 0.3, -0.2);
+  for (auto& p : g.blocks[0].patches) {
+    p.type = BcType::Farfield;
+    p.velocity = vinf;
+  }
+  finalize_grid(g);
+  FlowParams fp;
+  fp.reynolds = 1e6;
+  State init;
+  init << 0.0, vinf;
+  for (const char* name : {"sst", "launder-sharma", "myong-kasagi"}) {
+    Real residual[2] = {0.0, 0.0};
+    for (const bool sustain : {false, true}) {
+      FlowField f;
+      f.allocate(g, fp, init);
+      TurbulenceSettings ts;
+      ts.model = name;
+      ts.intensity = 0.01;
+      ts.freestream_nut_ratio = 1.0;
+      ts.sustain_freestream = sustain;
+      auto model = make_turbulence_model(ts, g);
+      model->initialize(g, f, fp, false);
+      const TurbState before = f.turb[0](2, 3, 1);
+      residual[sustain] = model->advance(g, f, fp, 1e3).l2[0];
+      const TurbState after = f.turb[0](2, 3, 1);
+      if (sustain) {
+        EXPECT_LE(std::abs(after[0] / before[0] - 1.0), 1e-12) << name;
+        EXPECT_LE(std::abs(after[1] / before[1] - 1.0), 1e-12) << name;
+      } else {
+        EXPECT_LT(after[0], before[0] * (1.0 - 1e-6)) << name << ": the free stream's k decays";
+      }
+    }
+    EXPECT_GT(residual[0], 0.0) << name;
+    EXPECT_LE(residual[1], 1e-10 * residual[0]) << name;
+  }
+}
+
+// ... and the free stream attracts: a uniform state off it relaxes back to it. The
+// sustaining term is a constant of each cell, so the point Jacobians (and a k-epsilon's
+// coupled 2x2 point blocks) must be those of the model's own source.
+TEST(TransportModel, SustainedFreeStreamAttractsAPerturbedState) {
+  Grid g;
+  Block b = make_perturbed_box("box", 6, 0.05);
+  randomly_perturb(b, 0.2, 7, false);
+  g.blocks.push_back(std::move(b));
+  const Vec3 vinf(1.0, 0.3, -0.2);
+  for (auto& p : g.blocks[0].patches) {
+    p.type = BcType::Farfield;
+    p.velocity = vinf;
+  }
+  finalize_grid(g);
+  FlowParams fp;
+  fp.reynolds = 1e6;
+  State init;
+  init << 0.0, vinf;
+  for (const char* name : {"sst", "launder-sharma", "myong-kasagi"}) {
+    FlowField f;
+    f.allocate(g, fp, init);
+    TurbulenceSettings ts;
+    ts.model = name;
+    ts.intensity = 0.01;
+    ts.freestream_nut_ratio = 1.0;
+    ts.sustain_freestream = true;
+    auto model = make_turbulence_model(ts, g);
+    model->initialize(g, f, fp, false);
+    const TurbState inf = f.turb[0](2, 3, 1);
+    f.turb[0].fill(TurbState(3.0 * inf[0], 0.5 * inf[1]));
+    for (int step = 0; step < 60; ++step) model->advance(g, f, fp, 1e3);
+    const TurbState after = f.turb[0](2, 3, 1);
+    EXPECT_LE(std::abs(after[0] / inf[0] - 1.0), 1e-6) << name << ": k " << after[0] << " against " << inf[0];
+    EXPECT_LE(std::abs(after[1] / inf[1] - 1.0), 1e-6) << name << ": second variable " << after[1] << " against " << inf[1];
+  }
+}
+
 TEST(TurbulenceModels, UnknownNameListsTheValidOnes) {
   Grid g;
   TurbulenceSettings s;
