@@ -9,6 +9,17 @@ Both codes solve the same non-dimensional problem: U = 1 along the case's free s
 nu = 1 / Re, the case's free-stream turbulence, rho = 1; coefficients on 1/2 U^2 A_ref
 (and A_ref L_ref for moments) about the case's moment centre.
 
+Wall conditions differ in omega: narwhal puts Menter's value on the wall face (60 nu /
+(beta_1 dy1^2), dy1 the wall cell's height), simpleFoam's omegaWallFunction fixes the wall
+cell's omega at 6 nu / (beta_1 y^2). Menter's value as a fixedValue face condition diverged
+in simpleFoam within 90 iterations on the 426 k-cell spheroid. On that grid (wall cell
+centres at y+ 0.5) simpleFoam's skin friction is about 4 % below narwhal's along the whole
+attached windward side; on the TMR plate narwhal's Cf(0.97) moves 0.2 % between wall cells
+at y+ 0.2 and 0.9, while the value from the cell-centre distance (4 times larger) lowers it
+4 % at y+ 0.9 (tmr_flat_plate, sst_137_tall_wall_cells).
+The free stream's turbulence is sustained as narwhal's when the case asks
+(turbulence.sustain_freestream): constant sources in constant/fvOptions.
+
 Schemes (second order, bounded where OpenFOAM's steady solver needs it): linearUpwind for
 momentum, limitedLinear for k and omega (first-order upwind, as narwhal convects them,
 NUMERICS §8.6, made the 426 k-cell spheroid diverge near iteration 110), cell-limited
@@ -85,9 +96,50 @@ def case_settings(c, where):
     k = 1.5 * tu * tu
     nut = ratio / re_
     return {"model": t["model"], "nu": 1.0 / re_, "k": k, "omega": k / nut, "epsilon": 0.09 * k * k / nut,
+            "sustain": bool(t.get("sustain_freestream", False)),
             "direction": free_stream_direction(float(flow.get("angle_of_attack", 0.0)), float(flow.get("drift_angle", 0.0))),
             "area": float(out.get("reference_area", 1.0)), "length": float(out.get("reference_length", 1.0)),
             "centre": [float(x) for x in out.get("moment_centre", [0.0, 0.0, 0.0])]}
+
+
+def sustaining_sources(s):
+    """Per unit volume, the Spalart-Rumsey terms that keep the free stream's turbulence
+    from decaying (narwhal's turbulence.sustain_freestream): minus each equation's point
+    source at the free-stream values in a uniform flow. SST: k gains beta* k omega, omega
+    gains beta omega^2 with beta = beta_2 (F1 = 0 off the body; narwhal blends with the
+    local F1, which differs in the wall cells only, where the term is negligible).
+    Launder-Sharma (epsilon-tilde; D = 0 in a uniform flow): k gains epsilon, epsilon
+    gains C2 f2 epsilon^2 / k, f2 at the free stream's turbulence Reynolds number."""
+    k = s["k"]
+    if s["model"] == "sst":
+        w = s["omega"]
+        return {"k": 0.09 * k * w, "omega": 0.0828 * w * w}
+    e = s["epsilon"]
+    rt = k * k / (s["nu"] * e)
+    f2 = 1.0 - 0.3 * math.exp(-min(rt * rt, 50.0))
+    return {"k": e, "epsilon": 1.92 * f2 * e * e / k}
+
+
+def _write_sustaining_sources(d, s):
+    """constant/fvOptions with the sustaining terms as constant explicit sources, or none."""
+    path = d / "constant" / "fvOptions"
+    if not s.get("sustain"):
+        path.unlink(missing_ok=True)
+        return
+    rates = "\n".join(f"        {name} ({value!r} 0);" for name, value in sustaining_sources(s).items())
+    _write(path, "dictionary", "fvOptions", f"""
+sustainFreeStream
+{{
+    type scalarSemiImplicitSource;
+    active yes;
+    selectionMode all;
+    volumeMode specific;
+    injectionRateSuSp
+    {{
+{rates}
+    }}
+}}
+""")
 
 
 def write_case(d, s, iterations):
@@ -108,9 +160,10 @@ def write_case(d, s, iterations):
         "omega": ("volScalarField", "[0 0 -1 0 0 0 0]", f"uniform {w!r}",
                   "body { type omegaWallFunction; value uniform 1; }",
                   f"farfield {{ type inletOutlet; inletValue uniform {w!r}; value uniform {w!r}; }}"),
-        # Launder-Sharma solves epsilon-tilde, zero at the wall
+        # Launder-Sharma solves epsilon-tilde, zero at the wall: 1e-14, as k, because
+        # OpenFOAM traps the division by it in f_mu = f(k^2 / (nu eps)) on the wall faces
         "epsilon": ("volScalarField", "[0 2 -3 0 0 0 0]", f"uniform {e!r}",
-                    "body { type fixedValue; value uniform 0; }",
+                    "body { type fixedValue; value uniform 1e-14; }",
                     f"farfield {{ type inletOutlet; inletValue uniform {e!r}; value uniform {e!r}; }}"),
         "nut": ("volScalarField", "[0 2 -1 0 0 0 0]", "uniform 0",
                 "body { type nutLowReWallFunction; value uniform 0; }", "farfield { type calculated; value uniform 0; }"),
@@ -119,6 +172,7 @@ def write_case(d, s, iterations):
     for name, (cls, dim, internal, wall, farfield) in fields.items():
         _write(d / "0" / name, cls, name,
                f"dimensions {dim};\ninternalField {internal};\nboundaryField\n{{\n    {wall}\n    {farfield}\n}}\n")
+    _write_sustaining_sources(d, s)
     c = s["centre"]
     _write(d / "system" / "controlDict", "dictionary", "controlDict", f"""
 application simpleFoam;

@@ -2,6 +2,7 @@
 Narwhal case, and the conversion of simpleFoam's forces to Narwhal's run.json layout."""
 import json
 import math
+import re
 import tempfile
 import textwrap
 import unittest
@@ -66,8 +67,37 @@ class PeerCase(unittest.TestCase):
         d = Path(tempfile.mkdtemp())
         openfoam.write_case(d, s, 10)
         self.assertTrue((d / "0" / "epsilon").exists())
+        # positive on the wall: OpenFOAM's f_mu divides by it there (a zero stopped simpleFoam)
+        wall = re.search(r"body \{ type fixedValue; value uniform ([-+0-9.e]+); \}", (d / "0" / "epsilon").read_text())
+        self.assertGreater(float(wall[1]), 0.0)
         self.assertFalse((d / "0" / "omega").exists())
         self.assertIn("LaunderSharmaKE", (d / "constant" / "turbulenceProperties").read_text())
+
+    def test_a_sustained_free_stream_gains_its_ambient_destruction(self):
+        for model, second in (("launder-sharma", "epsilon"), ("sst", "omega")):
+            case = dict(CASE, turbulence=dict(CASE["turbulence"], model=model))
+            d = Path(tempfile.mkdtemp())
+            openfoam.write_case(d, openfoam.case_settings(case, "case.toml"), 10)
+            self.assertFalse((d / "constant" / "fvOptions").exists())
+            case["turbulence"]["sustain_freestream"] = True
+            s = openfoam.case_settings(case, "case.toml")
+            openfoam.write_case(d, s, 10)
+            text = (d / "constant" / "fvOptions").read_text()
+            self.assertIn("scalarSemiImplicitSource", text)
+            rates = {m[0]: float(m[1]) for m in re.findall(r"^\s+(k|epsilon|omega) \(([-+0-9.e]+) 0\);$", text, re.M)}
+            k = s["k"]
+            if model == "sst":  # beta* k omega and beta_2 omega^2 (Menter 2003)
+                want = {"k": 0.09 * k * s["omega"], "omega": 0.0828 * s["omega"] ** 2}
+            else:  # epsilon-tilde, and C2 f2 eps^2 / k with Rt = k^2 / (nu eps) of the free stream
+                e = s["epsilon"]
+                f2 = 1.0 - 0.3 * math.exp(-min((k * k / (2.5e-7 * e)) ** 2, 50.0))
+                want = {"k": e, "epsilon": 1.92 * f2 * e * e / k}
+            self.assertEqual(set(rates), {"k", second})
+            for name, value in want.items():
+                self.assertAlmostEqual(rates[name] / value, 1.0, places=12)
+            case["turbulence"]["sustain_freestream"] = False
+            openfoam.write_case(d, openfoam.case_settings(case, "case.toml"), 10)
+            self.assertFalse((d / "constant" / "fvOptions").exists())
 
     def test_forces_become_coefficients_in_body_axes(self):
         d = Path(tempfile.mkdtemp())
