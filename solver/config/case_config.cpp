@@ -364,6 +364,12 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   if (t.sustain_freestream && (t.model == "laminar" || t.model == "baldwin-lomax"))
     r.error("turbulence.sustain_freestream", "a sustained free stream needs a transport model (sa, sst or a k-epsilon), got '" +
                                                  t.model + "'");
+  t.omega_wall = r.string_or("turbulence.omega_wall", t.omega_wall,
+                             "the wall distance in SST's wall value of omega: cell_height or cell_centre");
+  if (t.omega_wall != "cell_height" && t.omega_wall != "cell_centre")
+    r.error("turbulence.omega_wall", "expected \"cell_height\" or \"cell_centre\", got '" + t.omega_wall + "'");
+  if (r.has("turbulence.omega_wall") && t.model != "sst")
+    r.error("turbulence.omega_wall", "sets SST's wall value of omega; the model is '" + t.model + "'");
   t = with_model_defaults(t);  // what was left open, from the model
   t.max_growth = r.number_or("turbulence.max_growth", t.max_growth,
                              "the largest factor by which k, epsilon or omega may grow in one step", Range::above(1));

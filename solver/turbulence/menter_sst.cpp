@@ -44,7 +44,7 @@ TurbState MenterSst::freestream(Real nu) const {
 }
 
 TurbState MenterSst::wall_value(Real nu, Real d1, const TurbState& /*phi1*/) const {
-  const Real dy1 = 2.0 * d1;  // the first node off the wall: the wall cell's height
+  const Real dy1 = settings_.omega_wall == "cell_centre" ? d1 : 2.0 * d1;  // TurbulenceSettings::omega_wall
   return TurbState(0.0, 60.0 * nu / (beta1 * dy1 * dy1));
 }
 

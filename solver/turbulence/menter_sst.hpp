@@ -28,7 +28,7 @@
 // source (its negative part enters the implicit diagonal through the numerical
 // source derivative); updates keep k and omega positive (§8.6: a step that would make
 // a variable negative halves it instead).
-// Limits: no transition, no rotation/curvature correction, no sustaining terms.
+// Limits: no transition, no rotation/curvature correction.
 #include "turbulence/transport_model.hpp"
 
 namespace narwhal {
@@ -43,12 +43,12 @@ class MenterSst final : public TransportModel {
     return m == 0 ? "TurbulentEnergyKinetic" : "TurbulentDissipationRate";
   }
   PointSource source(const TurbState& phi, const CellFlow& c) const override;
-  // F1 and nu_t of a cell (aux[0], aux[1]); public for tests.
+  // F1 and nu_t of a cell (aux[0], aux[1]); public for tests, as the wall value.
   TurbState cell_aux(const TurbState& phi, const CellFlow& c) const override;
+  TurbState wall_value(Real nu, Real d1, const TurbState& phi1) const override;
 
  protected:
   TurbState freestream(Real nu) const override;
-  TurbState wall_value(Real nu, Real d1, const TurbState& phi1) const override;
   TurbState diffusivity(const TurbState& phi, Real nu, const TurbState& aux) const override;
   Real nut(const TurbState& phi, const CellFlow& c) const override;
   TurbState limit_update(const TurbState& phi, const TurbState& dphi) const override { return keep_positive(phi, dphi); }

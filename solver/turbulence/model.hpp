@@ -81,6 +81,12 @@ struct TurbulenceSettings {
   // added terms are the size of the ambient destruction, small beside the boundary
   // layer's.
   bool sustain_freestream = false;
+  // SST's wall value of omega, 60 nu / (beta_1 dy1^2) (Menter 1994): dy1 the wall cell's
+  // height ("cell_height", the first node off the wall of a vertex-centred grid: its skin
+  // friction does not depend on the wall cells' y+ up to 1), or the distance of its centre
+  // ("cell_centre", 4 times the value, close to OpenFOAM's omegaWallFunction, for
+  // comparisons with simpleFoam). Why and the measurements: solver/turbulence/DESIGN.md.
+  std::string omega_wall = "cell_height";
   // Baldwin-Lomax: F_max from the first peak (Degani-Schiff cut-off, for bodies at
   // incidence with off-body vortices) instead of the line's global maximum.
   bool degani_schiff = false;

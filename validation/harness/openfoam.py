@@ -16,7 +16,9 @@ in simpleFoam within 90 iterations on the 426 k-cell spheroid. On that grid (wal
 centres at y+ 0.5) simpleFoam's skin friction is about 4 % below narwhal's along the whole
 attached windward side; on the TMR plate narwhal's Cf(0.97) moves 0.2 % between wall cells
 at y+ 0.2 and 0.9, while the value from the cell-centre distance (4 times larger) lowers it
-4 % at y+ 0.9 (tmr_flat_plate, sst_137_tall_wall_cells).
+4 % at y+ 0.9 (tmr_flat_plate, sst_137_tall_wall_cells). So narwhal keeps its default and
+spheroid_turbulent compares with narwhal's turbulence.omega_wall = "cell_centre", which
+brings the friction drags within 0.7 % (solver/turbulence/DESIGN.md).
 The free stream's turbulence is sustained as narwhal's when the case asks
 (turbulence.sustain_freestream): constant sources in constant/fvOptions.
 

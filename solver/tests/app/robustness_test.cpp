@@ -95,6 +95,15 @@ TEST(Hardening, SustainedFreeStreamNeedsATransportModel) {
   EXPECT_EQ(error_with({"turbulence.model=\"sst\"", "turbulence.sustain_freestream=true"}), "");
 }
 
+TEST(Hardening, OmegaWallDistanceIsNamedAndSstOnly) {
+  std::string e = error_with({"turbulence.model=\"sst\"", "turbulence.omega_wall=\"wall\""});
+  EXPECT_NE(e.find("key 'turbulence.omega_wall'"), std::string::npos) << e;
+  EXPECT_NE(e.find("cell_height"), std::string::npos) << e;
+  e = error_with({"turbulence.model=\"launder-sharma\"", "turbulence.omega_wall=\"cell_centre\""});
+  EXPECT_NE(e.find("key 'turbulence.omega_wall'"), std::string::npos) << e;
+  EXPECT_EQ(error_with({"turbulence.model=\"sst\"", "turbulence.omega_wall=\"cell_centre\""}), "");
+}
+
 // ---- --set into arrays of tables and patch ranges ------------------------------------
 
 struct Plot3dCase {

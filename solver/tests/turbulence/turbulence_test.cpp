@@ -327,6 +327,20 @@ TEST(MyongKasagi, WallDissipationFromTheWallCell) {
   EXPECT_NEAR(w[1], 2.0 * 2e-7 * 3e-9 / 1e-12, 1e-15);
 }
 
+TEST(MenterSst, WallOmegaFromTheWallCellsHeightOrItsCentre) {
+  // 60 nu / (beta_1 dy1^2), dy1 = 2 d1 (default) or d1 (TurbulenceSettings::omega_wall)
+  const Grid g = unit_cell_grid();
+  TurbulenceSettings s;
+  s.model = "sst";
+  const MenterSst height(s, g);
+  s.omega_wall = "cell_centre";
+  const MenterSst centre(s, g);
+  const Real nu = 2e-7, d1 = 1e-6;
+  EXPECT_EQ(height.wall_value(nu, d1, TurbState(1e-6, 10.0))[0], 0.0);
+  EXPECT_NEAR(height.wall_value(nu, d1, TurbState(1e-6, 10.0))[1] / (60.0 * nu / (0.075 * 4.0 * d1 * d1)), 1.0, 1e-14);
+  EXPECT_NEAR(centre.wall_value(nu, d1, TurbState(1e-6, 10.0))[1] / (60.0 * nu / (0.075 * d1 * d1)), 1.0, 1e-14);
+}
+
 TEST(TransportModel, UniformFreeStreamStaysUniformOnAPerturbedGrid) {
   Grid g;
   Block b = make_perturbed_box("box", 8, 0.05);
