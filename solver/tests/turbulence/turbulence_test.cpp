@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include "app/driver.hpp"
@@ -341,22 +342,45 @@ TEST(MenterSst, WallOmegaFromTheWallCellsHeightOrItsCentre) {
   EXPECT_NEAR(centre.wall_value(nu, d1, TurbState(1e-6, 10.0))[1] / (60.0 * nu / (0.075 * d1 * d1)), 1.0, 1e-14);
 }
 
-TEST(TransportModel, UniformFreeStreamStaysUniformOnAPerturbedGrid) {
+// A randomly perturbed box in a uniform stream, far field all round: the grid, Re = 1e6
+// and the uniform state.
+struct FreeStreamBox {
   Grid g;
-  Block b = make_perturbed_box("box", 8, 0.05);
-  randomly_perturb(b, 0.2, 5, false);
-  g.blocks.push_back(std::move(b));
-  const Vec3 vinf(1.0, 0.3, -0.2);
-  for (auto& p : g.blocks[0].patches) {
-    p.type = BcType::Farfield;
-    p.velocity = vinf;
-  }
-  finalize_grid(g);
   FlowParams fp;
-  fp.reynolds = 1e6;
-  FlowField f;
   State init;
-  init << 0.0, vinf;
+  explicit FreeStreamBox(int cells = 6, unsigned seed = 7) {
+    Block b = make_perturbed_box("box", cells, 0.05);
+    randomly_perturb(b, 0.2, seed, false);
+    g.blocks.push_back(std::move(b));
+    const Vec3 vinf(1.0, 0.3, -0.2);
+    for (auto& p : g.blocks[0].patches) {
+      p.type = BcType::Farfield;
+      p.velocity = vinf;
+    }
+    finalize_grid(g);
+    fp.reynolds = 1e6;
+    init << 0.0, vinf;
+  }
+  // the model at Tu 1 % and a viscosity ratio of 1, initialized to the free stream
+  std::unique_ptr<TurbulenceModel> model(const char* name, bool sustain, FlowField& f) const {
+    f.allocate(g, fp, init);
+    TurbulenceSettings ts;
+    ts.model = name;
+    ts.intensity = 0.01;
+    ts.freestream_nut_ratio = 1.0;
+    ts.sustain_freestream = sustain;
+    auto m = make_turbulence_model(ts, g);
+    m->initialize(g, f, fp, false);
+    return m;
+  }
+};
+
+TEST(TransportModel, UniformFreeStreamStaysUniformOnAPerturbedGrid) {
+  FreeStreamBox box(8, 5);
+  Grid& g = box.g;
+  const FlowParams& fp = box.fp;
+  const State& init = box.init;
+  FlowField f;
   f.allocate(g, fp, init);
   TurbulenceSettings ts;
   ts.model = "sa";
@@ -375,32 +399,14 @@ TEST(TransportModel, UniformFreeStreamStaysUniformOnAPerturbedGrid) {
 // them a uniform free stream's k and epsilon (omega) decay, with them the uniform
 // free stream is an exact discrete solution of every two-equation model.
 TEST(TransportModel, SustainedFreeStreamDoesNotDecay) {
-  Grid g;
-  Block b = make_perturbed_box("box", 6, 0.05);
-  randomly_perturb(b, 0.2, 7, false);
-  g.blocks.push_back(std::move(b));
-  const Vec3 vinf(1.0, 0.3, -0.2);
-  for (auto& p : g.blocks[0].patches) {
-    p.type = BcType::Farfield;
-    p.velocity = vinf;
-  }
-  finalize_grid(g);
-  FlowParams fp;
-  fp.reynolds = 1e6;
-  State init;
-  init << 0.0, vinf;
+  FreeStreamBox box;
+  Grid& g = box.g;
+  const FlowParams& fp = box.fp;
   for (const char* name : {"sst", "launder-sharma", "myong-kasagi"}) {
     Real residual[2] = {0.0, 0.0};
     for (const bool sustain : {false, true}) {
       FlowField f;
-      f.allocate(g, fp, init);
-      TurbulenceSettings ts;
-      ts.model = name;
-      ts.intensity = 0.01;
-      ts.freestream_nut_ratio = 1.0;
-      ts.sustain_freestream = sustain;
-      auto model = make_turbulence_model(ts, g);
-      model->initialize(g, f, fp, false);
+      auto model = box.model(name, sustain, f);
       const TurbState before = f.turb[0](2, 3, 1);
       residual[sustain] = model->advance(g, f, fp, 1e3).l2[0];
       const TurbState after = f.turb[0](2, 3, 1);
@@ -420,30 +426,12 @@ TEST(TransportModel, SustainedFreeStreamDoesNotDecay) {
 // sustaining term is a constant of each cell, so the point Jacobians (and a k-epsilon's
 // coupled 2x2 point blocks) must be those of the model's own source.
 TEST(TransportModel, SustainedFreeStreamAttractsAPerturbedState) {
-  Grid g;
-  Block b = make_perturbed_box("box", 6, 0.05);
-  randomly_perturb(b, 0.2, 7, false);
-  g.blocks.push_back(std::move(b));
-  const Vec3 vinf(1.0, 0.3, -0.2);
-  for (auto& p : g.blocks[0].patches) {
-    p.type = BcType::Farfield;
-    p.velocity = vinf;
-  }
-  finalize_grid(g);
-  FlowParams fp;
-  fp.reynolds = 1e6;
-  State init;
-  init << 0.0, vinf;
+  FreeStreamBox box;
+  Grid& g = box.g;
+  const FlowParams& fp = box.fp;
   for (const char* name : {"sst", "launder-sharma", "myong-kasagi"}) {
     FlowField f;
-    f.allocate(g, fp, init);
-    TurbulenceSettings ts;
-    ts.model = name;
-    ts.intensity = 0.01;
-    ts.freestream_nut_ratio = 1.0;
-    ts.sustain_freestream = true;
-    auto model = make_turbulence_model(ts, g);
-    model->initialize(g, f, fp, false);
+    auto model = box.model(name, true, f);
     const TurbState inf = f.turb[0](2, 3, 1);
     f.turb[0].fill(TurbState(3.0 * inf[0], 0.5 * inf[1]));
     for (int step = 0; step < 60; ++step) model->advance(g, f, fp, 1e3);
