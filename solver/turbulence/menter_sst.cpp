@@ -44,7 +44,7 @@ TurbState MenterSst::freestream(Real nu) const {
 }
 
 TurbState MenterSst::wall_value(Real nu, Real d1, const TurbState& /*phi1*/) const {
-  const Real dy1 = settings_.omega_wall == "cell_centre" ? d1 : 2.0 * d1;  // TurbulenceSettings::omega_wall
+  const Real dy1 = dy1_per_d1_ * d1;
   return TurbState(0.0, 60.0 * nu / (beta1 * dy1 * dy1));
 }
 

@@ -35,7 +35,8 @@ namespace narwhal {
 
 class MenterSst final : public TransportModel {
  public:
-  using TransportModel::TransportModel;
+  MenterSst(const TurbulenceSettings& s, const Grid& g)
+      : TransportModel(s, g), dy1_per_d1_(s.omega_wall == "cell_centre" ? 1.0 : 2.0) {}
   std::string name() const override { return "sst"; }
   int num_variables() const override { return 2; }
   std::string variable_name(int m) const override { return m == 0 ? "k" : "omega"; }
@@ -52,6 +53,9 @@ class MenterSst final : public TransportModel {
   TurbState diffusivity(const TurbState& phi, Real nu, const TurbState& aux) const override;
   Real nut(const TurbState& phi, const CellFlow& c) const override;
   TurbState limit_update(const TurbState& phi, const TurbState& dphi) const override { return keep_positive(phi, dphi); }
+
+ private:
+  Real dy1_per_d1_;  // TurbulenceSettings::omega_wall: the wall cell's height (2) or its centre's distance (1)
 };
 
 }  // namespace narwhal
