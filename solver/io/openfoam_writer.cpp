@@ -129,6 +129,8 @@ OpenFoamMeshCounts write_openfoam_mesh(const std::string& case_dir, const Grid& 
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
     const auto& ids = node_ids[ib];
+    // Cells block by block in the grid's block order, i fastest: the harness starts a peer run
+    // from a Narwhal solution by this numbering (validation/harness/openfoam.py, seed_from_narwhal).
     auto cell = [&](const Index3& c) { return cell_offset[ib] + c[0] + b.ni * (c[1] + b.nj * c[2]); };
     for (int d = 0; d < 3; ++d) {
       // Faces inside the block: from the lower cell to the upper one.

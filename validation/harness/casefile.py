@@ -26,7 +26,8 @@ class Run:
     family: str = ""     # grid family name, '' for single runs
     h: float = 0.0       # representative spacing within the family
     max_iterations: int = 0   # 0: the input's own limit
-    restart_from: str = ""    # id of a run whose restart.h5 this run continues
+    restart_from: str = ""    # id of a run whose restart.h5 this run continues (a peer run: whose
+                              # solution.cgns on the same grid it starts from)
     ranks: int = 0            # MPI ranks (mpirun); 0: validation/run --ranks (default 1)
     code: str = "narwhal"     # or a peer code on the same case and grid (PEER_CODES)
 
@@ -184,9 +185,8 @@ def load_rung(path):
         if runs[-1].code not in ("narwhal",) + PEER_CODES:
             raise HarnessError(f"{path}: key 'run[{i}].code': unknown code {runs[-1].code!r}; valid: narwhal, "
                                + ", ".join(PEER_CODES))
-        if runs[-1].code != "narwhal" and (runs[-1].restart_from or runs[-1].max_iterations <= 0):
-            raise HarnessError(f"{path}: run '{rid}': a peer run needs max_iterations (its iteration count) and "
-                               "cannot restart from a Narwhal run")
+        if runs[-1].code != "narwhal" and runs[-1].max_iterations <= 0:
+            raise HarnessError(f"{path}: run '{rid}': a peer run needs max_iterations (its iteration count)")
         r.finish()
     ids = [x.id for x in runs]
     if len(set(ids)) != len(ids):
@@ -196,6 +196,9 @@ def load_rung(path):
             raise HarnessError(f"{path}: run '{x.id}' is in family '{x.family}' but has no positive 'h'")
         if x.restart_from and x.restart_from not in ids:
             raise HarnessError(f"{path}: run '{x.id}': restart_from names unknown run '{x.restart_from}'")
+        if x.restart_from and runs[ids.index(x.restart_from)].code != "narwhal":
+            raise HarnessError(f"{path}: run '{x.id}': restart_from names '{x.restart_from}', a peer run; "
+                               "runs start only from a Narwhal run")
 
     checks = []
     for i, t in enumerate(top.get("check", list, "an array of [[check]] tables", default=[])):

@@ -20,7 +20,8 @@ at y+ 0.2 and 0.9, while the value from the cell-centre distance (4 times larger
 spheroid_turbulent compares with narwhal's turbulence.omega_wall = "cell_centre", which
 brings the friction drags within 0.7 % (solver/turbulence/DESIGN.md).
 The free stream's turbulence is sustained as narwhal's when the case asks
-(turbulence.sustain_freestream): constant sources in constant/fvOptions.
+(turbulence.sustain_freestream): constant sources in constant/fvOptions. A peer run may
+start from a Narwhal run's solution on the same grid (seed_from_narwhal says why).
 
 Schemes (second order, bounded where OpenFOAM's steady solver needs it): linearUpwind for
 momentum, limitedLinear for k and omega (first-order upwind, as narwhal convects them,
@@ -37,6 +38,8 @@ import re
 import subprocess
 import time
 from pathlib import Path
+
+import numpy as np
 
 from .errors import HarnessError
 
@@ -144,13 +147,10 @@ sustainFreeStream
 """)
 
 
-def write_case(d, s, iterations):
-    nu, k, w, e = s["nu"], s["k"], s["omega"], s["epsilon"]
+def _field_files(s):
+    """name -> (class, dimensions, internal field, wall condition, far-field condition)."""
+    k, w, e = s["k"], s["omega"], s["epsilon"]
     u = "({} {} {})".format(*(repr(x) for x in s["direction"]))
-    _write(d / "constant" / "transportProperties", "dictionary", "transportProperties",
-           f"transportModel Newtonian;\nnu {nu!r};\n")
-    _write(d / "constant" / "turbulenceProperties", "dictionary", "turbulenceProperties",
-           f"simulationType RAS;\nRAS {{ RASModel {MODELS[s['model']]}; turbulence on; printCoeffs off; }}\n")
     fields = {
         "U": ("volVectorField", "[0 1 -1 0 0 0 0]", f"uniform {u}",
               "body { type noSlip; }", f"farfield {{ type freestreamVelocity; freestreamValue uniform {u}; }}"),
@@ -171,10 +171,22 @@ def write_case(d, s, iterations):
                 "body { type nutLowReWallFunction; value uniform 0; }", "farfield { type calculated; value uniform 0; }"),
     }
     del fields["epsilon" if s["model"] == "sst" else "omega"]
-    for name, (cls, dim, internal, wall, farfield) in fields.items():
-        _write(d / "0" / name, cls, name,
-               f"dimensions {dim};\ninternalField {internal};\nboundaryField\n{{\n    {wall}\n    {farfield}\n}}\n")
+    return fields
+
+
+def _write_field(directory, name, spec):
+    cls, dim, internal, wall, farfield = spec
+    _write(directory / name, cls, name,
+           f"dimensions {dim};\ninternalField {internal};\nboundaryField\n{{\n    {wall}\n    {farfield}\n}}\n")
+
+
+def _write_model(d, s):
+    _write(d / "constant" / "turbulenceProperties", "dictionary", "turbulenceProperties",
+           f"simulationType RAS;\nRAS {{ RASModel {MODELS[s['model']]}; turbulence on; printCoeffs off; }}\n")
     _write_sustaining_sources(d, s)
+
+
+def _write_control(d, s, iterations):
     c = s["centre"]
     _write(d / "system" / "controlDict", "dictionary", "controlDict", f"""
 application simpleFoam;
@@ -201,6 +213,15 @@ functions
     }}
 }}
 """)
+
+
+def write_case(d, s, iterations):
+    _write(d / "constant" / "transportProperties", "dictionary", "transportProperties",
+           f"transportModel Newtonian;\nnu {s['nu']!r};\n")
+    _write_model(d, s)
+    for name, spec in _field_files(s).items():
+        _write_field(d / "0", name, spec)
+    _write_control(d, s, iterations)
     _write(d / "system" / "fvSchemes", "dictionary", "fvSchemes", """
 ddtSchemes { default steadyState; }
 gradSchemes { default cellLimited Gauss linear 1; }
@@ -227,6 +248,50 @@ solvers
 SIMPLE { nNonOrthogonalCorrectors 0; consistent no; }
 relaxationFactors { equations { U 0.7; ".*" 0.7; } fields { p 0.3; } }
 """)
+
+
+# Each model's variables under narwhal's CGNS names (solver/turbulence/*.hpp, cgns_name)
+# -> the OpenFOAM fields they seed; Launder-Sharma's epsilon is epsilon-tilde in both codes.
+SEED_FIELDS = {"sst": {"TurbulentEnergyKinetic": "k", "TurbulentDissipationRate": "omega"},
+               "launder-sharma": {"TurbulentEnergyKinetic": "k", "TurbulentDissipation": "epsilon"}}
+
+
+def seed_from_narwhal(d, s, solution, grid):
+    """Narwhal's solution (solution.cgns) as simpleFoam's initial fields in d/0. Why: on the
+    426 k-cell spheroid simpleFoam's Launder-Sharma blew up from a uniform start within ten
+    iterations (k 0.7 U^2 in a wall cell), and its SST run lives on a knife edge (two starts
+    whose free-stream omega differs in the 16th digit: one ran 2000 iterations, the other
+    diverged at iteration 70, at the windward nose). From Narwhal's converged fields neither
+    blows up; the answer simpleFoam converges to is its own. `grid` is the grid.cgns that
+    narwhal wrote with this OpenFOAM mesh: the solution must be on it, node for node. The
+    export numbers cells block by block in the run's block order (CGNS Ordinal), i fastest
+    (solver/io/openfoam_writer.cpp), which is the order of the flattened zones here."""
+    from .solution import read_nodes, read_solution
+    zones = sorted(read_solution(solution, extra=SEED_FIELDS[s["model"]]), key=lambda z: z.ordinal)
+    nodes = read_nodes(grid)
+    if not zones:
+        raise HarnessError(f"{solution}: no zones with a flow solution")
+    for z in zones:
+        if z.name not in nodes or nodes[z.name].shape != z.x.shape or \
+                np.abs(nodes[z.name] - z.x).max() > 1e-12 * max(np.abs(z.x).max(), 1.0):
+            raise HarnessError(f"{solution}: block '{z.name}' is not the block of the peer's grid {grid}; "
+                               "a peer run starts only from a Narwhal run on the same grid")
+    flat = lambda key: np.concatenate([z.fields[key].ravel() for z in zones])
+    values = {"U": np.stack([flat("u"), flat("v"), flat("w")], axis=1), "p": flat("p")}
+    values.update({foam_name: flat(cgns) for cgns, foam_name in SEED_FIELDS[s["model"]].items()})
+    cells = _cell_count(d)
+    if cells != len(values["p"]):
+        raise HarnessError(f"{solution}: {len(values['p'])} cells, the OpenFOAM mesh in {d} has {cells}")
+    for name, v in values.items():
+        path = d / "0" / name
+        rows = "\n".join("({!r} {!r} {!r})".format(*map(float, r)) for r in v) if v.ndim == 2 else \
+            "\n".join(repr(float(x)) for x in v)
+        field = f"nonuniform List<{'vector' if v.ndim == 2 else 'scalar'}> {len(v)}\n(\n{rows}\n)"
+        text, found = re.subn(r"internalField uniform [^;]+;", lambda m: f"internalField {field};", path.read_text(),
+                              count=1)
+        if not found:
+            raise HarnessError(f"{path}: no uniform internalField to replace with Narwhal's")
+        path.write_text(text)
 
 
 def run(d, ranks, timeout=None):
@@ -302,7 +367,7 @@ def write_results(d, out, s, solver_seconds):
     rows = history(d, s)
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "history.csv", "w") as f:
-        f.write("# OpenFOAM simpleFoam (k-omega SST) on Narwhal's grid; forces on the patch body, grid axes\n")
+        f.write(f"# OpenFOAM simpleFoam ({MODELS[s['model']]}) on Narwhal's grid; forces on the patch body, grid axes\n")
         f.write("iteration,wall_s,body_cfx,body_cfy,body_cfz,body_cmx,body_cmy,body_cmz\n")
         for i, w, p in rows:
             t = p["total"]

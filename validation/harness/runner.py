@@ -105,7 +105,7 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
         if r.code == "narwhal":
             info = _run_narwhal(r, rd, r.ranks or ranks, narwhal, out_dir, remaining)
         else:
-            info = _run_peer(r, rd, r.ranks or ranks, narwhal, remaining)
+            info = _run_peer(r, rd, r.ranks or ranks, narwhal, out_dir, remaining)
         if "compiler" in info:
             result["provenance"].update({k: info.pop(k) for k in ("compiler", "flags", "version")})
         result["runs"].append(info)
@@ -185,7 +185,7 @@ def _run_narwhal(r, rd, n, narwhal, out_dir, remaining):
     return info
 
 
-def _run_peer(r, rd, n, narwhal, remaining):
+def _run_peer(r, rd, n, narwhal, out_dir, remaining):
     """A peer code's run on Narwhal's grid of the run's case (harness/openfoam.py): its
     outputs land in rd in Narwhal's layouts (run.json, history.csv, surface_body.csv)."""
     from . import openfoam
@@ -198,7 +198,8 @@ def _run_peer(r, rd, n, narwhal, remaining):
     shutil.rmtree(case_dir, ignore_errors=True)
     grid_cmd = [str(narwhal), "grid", str(r.input), "--out", str(rd / "grid"), "--openfoam", str(case_dir)]
     grid_cmd += _overrides(r)
-    info["command"] = " ".join(grid_cmd) + f" && simpleFoam ({r.max_iterations} iterations, {n} ranks)"
+    start = f", from run {r.restart_from}'s solution" if r.restart_from else ""
+    info["command"] = " ".join(grid_cmd) + f" && simpleFoam ({r.max_iterations} iterations, {n} ranks{start})"
     started = time.monotonic()
     try:
         with open(rd / "grid.log", "w") as log:
@@ -208,6 +209,9 @@ def _run_peer(r, rd, n, narwhal, remaining):
             return info
         settings = openfoam.case_settings(effective_input(r), r.input)
         openfoam.write_case(case_dir, settings, r.max_iterations)
+        if r.restart_from:
+            openfoam.seed_from_narwhal(case_dir, settings, out_dir / "runs" / r.restart_from / "solution.cgns",
+                                       rd / "grid" / "grid.cgns")
         seconds = openfoam.run(case_dir, n, timeout=max(remaining - (time.monotonic() - started), 1.0))
         data = openfoam.write_results(case_dir, rd, settings, seconds)
     except subprocess.TimeoutExpired:

@@ -7,8 +7,9 @@ FIELDS = {"p": "Pressure", "u": "VelocityX", "v": "VelocityY", "w": "VelocityZ"}
 
 
 class Zone:
-    def __init__(self, name, x, fields):
+    def __init__(self, name, x, fields, ordinal=0):
         self.name = name
+        self.ordinal = ordinal  # the block's place in the run's block order (CGNS Ordinal_t)
         self.x = x            # nodes, shape (nk+1, nj+1, ni+1, 3)
         self.fields = fields  # name -> (nk, nj, ni)
         c = x
@@ -39,7 +40,9 @@ def _hex_volumes(X):
     return vol / 3.0
 
 
-def read_solution(path):
+def read_solution(path, extra=()):
+    """The zones of a solution, in file order, with p, u, v, w and the CGNS fields named in
+    `extra` (name -> (nk, nj, ni) arrays, under their CGNS names)."""
     zones = []
     with h5py.File(path, "r") as f:
         base = f["Base"]
@@ -51,5 +54,19 @@ def read_solution(path):
             x = np.stack([gc[c][" data"][()] for c in ("CoordinateX", "CoordinateY", "CoordinateZ")], axis=-1)
             fs = z["FlowSolution"]
             fields = {k: fs[v][" data"][()] for k, v in FIELDS.items()}
-            zones.append(Zone(name, x, fields))
+            fields.update({v: fs[v][" data"][()] for v in extra})
+            ordinal = int(z["Ordinal"][" data"][()][0]) if "Ordinal" in z else 0
+            zones.append(Zone(name, x, fields, ordinal))
     return zones
+
+
+def read_nodes(path):
+    """Zone name -> nodes (nk+1, nj+1, ni+1, 3) of a grid or solution file."""
+    out = {}
+    with h5py.File(path, "r") as f:
+        for name, z in f["Base"].items():
+            if z.attrs.get("label", b"") == b"Zone_t":
+                gc = z["GridCoordinates"]
+                out[name] = np.stack([gc[c][" data"][()] for c in ("CoordinateX", "CoordinateY", "CoordinateZ")],
+                                     axis=-1)
+    return out

@@ -42,6 +42,40 @@ def fake_foam_run(d, forces, moments, iterations=3):
     (poly / "owner").write_text('note "nPoints:8  nCells:1  nFaces:6  nInternalFaces:0";\n')
 
 
+def write_cgns(path, zones, fields=True):
+    """A solution or grid file in the layout narwhal writes (harness/solution.py reads it):
+    zones as (name, ordinal, nodes (nk+1, nj+1, ni+1, 3), {CGNS name: (nk, nj, ni)})."""
+    import h5py
+    with h5py.File(path, "w") as f:
+        base = f.create_group("Base")
+        for name, ordinal, x, values in zones:
+            z = base.create_group(name)
+            z.attrs["label"] = np.bytes_(b"Zone_t")  # a fixed-length string, as the CGNS library writes
+            z.create_group("Ordinal").create_dataset(" data", data=np.array([ordinal], dtype=np.int32))
+            gc = z.create_group("GridCoordinates")
+            for n, c in enumerate(("CoordinateX", "CoordinateY", "CoordinateZ")):
+                gc.create_group(c).create_dataset(" data", data=x[..., n])
+            if fields:
+                fs = z.create_group("FlowSolution")
+                for c, v in values.items():
+                    fs.create_group(c).create_dataset(" data", data=v)
+
+
+def two_blocks():
+    """Two 2 x 1 x 1 blocks side by side in x, listed in the file against their order."""
+    zones = []
+    for name, ordinal, x0 in (("second", 2, 2.0), ("first", 1, 0.0)):
+        x = np.stack(np.meshgrid(x0 + np.arange(3.0), np.arange(2.0), np.arange(2.0), indexing="ij"), axis=-1)
+        x = np.ascontiguousarray(x.transpose(2, 1, 0, 3))  # (k, j, i, 3)
+        cells = (1, 1, 2)
+        values = {"Pressure": np.full(cells, 10.0 * ordinal) + [[[0.0, 1.0]]],
+                  "VelocityX": np.full(cells, 1.0 * ordinal), "VelocityY": np.zeros(cells),
+                  "VelocityZ": np.zeros(cells), "TurbulentEnergyKinetic": np.full(cells, 0.1 * ordinal),
+                  "TurbulentDissipation": np.full(cells, 0.01 * ordinal)}
+        zones.append((name, ordinal, x, values))
+    return zones
+
+
 class PeerCase(unittest.TestCase):
     def test_free_stream_follows_narwhal_grid_axes(self):
         s = openfoam.case_settings(CASE, "case.toml")
@@ -141,6 +175,37 @@ class PeerCase(unittest.TestCase):
         with self.assertRaises(HarnessError):
             openfoam.write_results(d / "foam", d / "out", s, 1.0)
 
+    def test_a_peer_run_starts_from_narwhals_fields_in_the_exports_cell_order(self):
+        d = Path(tempfile.mkdtemp())
+        case = dict(CASE, turbulence=dict(CASE["turbulence"], model="launder-sharma"))
+        s = openfoam.case_settings(case, "case.toml")
+        fake_foam_run(d / "foam", [(1.0, 0.0, 0.0)] * 3, [(0.0, 0.0, 0.0)] * 3)
+        (d / "foam" / "constant" / "polyMesh" / "owner").write_text('note "nCells:4";\n')
+        openfoam.write_case(d / "foam", s, 10)
+        zones = two_blocks()
+        write_cgns(d / "solution.cgns", zones)
+        write_cgns(d / "grid.cgns", zones, fields=False)
+        openfoam.seed_from_narwhal(d / "foam", s, d / "solution.cgns", d / "grid.cgns")
+        p = (d / "foam" / "0" / "p").read_text()
+        self.assertIn("internalField nonuniform List<scalar> 4\n(\n10.0\n11.0\n20.0\n21.0\n);", p)
+        self.assertIn("body { type zeroGradient; }", p)  # the boundary conditions stay
+        self.assertIn("List<vector> 4\n(\n(1.0 0.0 0.0)\n(1.0 0.0 0.0)\n(2.0 0.0 0.0)",
+                      (d / "foam" / "0" / "U").read_text())
+        self.assertIn("List<scalar> 4\n(\n0.01\n0.01\n0.02\n0.02\n)", (d / "foam" / "0" / "epsilon").read_text())
+
+    def test_a_solution_on_another_grid_is_refused_naming_the_block(self):
+        d = Path(tempfile.mkdtemp())
+        s = openfoam.case_settings(dict(CASE, turbulence=dict(CASE["turbulence"], model="launder-sharma")), "c")
+        fake_foam_run(d / "foam", [(1.0, 0.0, 0.0)] * 3, [(0.0, 0.0, 0.0)] * 3)
+        openfoam.write_case(d / "foam", s, 10)
+        zones = two_blocks()
+        write_cgns(d / "solution.cgns", zones)
+        moved = [(n, o, x + (1e-6 if n == "first" else 0.0), v) for n, o, x, v in zones]
+        write_cgns(d / "grid.cgns", moved, fields=False)
+        with self.assertRaises(HarnessError) as cm:
+            openfoam.seed_from_narwhal(d / "foam", s, d / "solution.cgns", d / "grid.cgns")
+        self.assertIn("'first'", str(cm.exception))
+
     def test_no_force_output_is_an_error_naming_the_directory(self):
         d = Path(tempfile.mkdtemp())
         (d / "log.simpleFoam").write_text("Time = 1\nExecutionTime = 1 s\n")
@@ -172,6 +237,14 @@ class PeerRuns(unittest.TestCase):
         with self.assertRaises(HarnessError) as cm:
             self.rung(PEER_RUNG.replace("max_iterations = 10\n", ""))
         self.assertIn("max_iterations", str(cm.exception))
+
+    def test_a_peer_run_may_start_from_a_narwhal_run_only(self):
+        rung = self.rung(PEER_RUNG.replace("max_iterations = 10\n", 'max_iterations = 10\nrestart_from = "a"\n'))
+        self.assertEqual(rung.runs[1].restart_from, "a")
+        swapped = PEER_RUNG.replace('input = "in.toml"\n\n[[run]]', 'input = "in.toml"\nrestart_from = "peer"\n\n[[run]]', 1)
+        with self.assertRaises(HarnessError) as cm:
+            self.rung(swapped)
+        self.assertIn("a peer run", str(cm.exception))
 
     def test_reference_taken_from_the_peer_run(self):
         rung = self.rung(PEER_RUNG)
