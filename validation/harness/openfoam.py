@@ -147,10 +147,13 @@ sustainFreeStream
 """)
 
 
-def _field_files(s):
-    """name -> (class, dimensions, internal field, wall condition, far-field condition)."""
-    k, w, e = s["k"], s["omega"], s["epsilon"]
+def write_case(d, s, iterations):
+    nu, k, w, e = s["nu"], s["k"], s["omega"], s["epsilon"]
     u = "({} {} {})".format(*(repr(x) for x in s["direction"]))
+    _write(d / "constant" / "transportProperties", "dictionary", "transportProperties",
+           f"transportModel Newtonian;\nnu {nu!r};\n")
+    _write(d / "constant" / "turbulenceProperties", "dictionary", "turbulenceProperties",
+           f"simulationType RAS;\nRAS {{ RASModel {MODELS[s['model']]}; turbulence on; printCoeffs off; }}\n")
     fields = {
         "U": ("volVectorField", "[0 1 -1 0 0 0 0]", f"uniform {u}",
               "body { type noSlip; }", f"farfield {{ type freestreamVelocity; freestreamValue uniform {u}; }}"),
@@ -171,22 +174,10 @@ def _field_files(s):
                 "body { type nutLowReWallFunction; value uniform 0; }", "farfield { type calculated; value uniform 0; }"),
     }
     del fields["epsilon" if s["model"] == "sst" else "omega"]
-    return fields
-
-
-def _write_field(directory, name, spec):
-    cls, dim, internal, wall, farfield = spec
-    _write(directory / name, cls, name,
-           f"dimensions {dim};\ninternalField {internal};\nboundaryField\n{{\n    {wall}\n    {farfield}\n}}\n")
-
-
-def _write_model(d, s):
-    _write(d / "constant" / "turbulenceProperties", "dictionary", "turbulenceProperties",
-           f"simulationType RAS;\nRAS {{ RASModel {MODELS[s['model']]}; turbulence on; printCoeffs off; }}\n")
+    for name, (cls, dim, internal, wall, farfield) in fields.items():
+        _write(d / "0" / name, cls, name,
+               f"dimensions {dim};\ninternalField {internal};\nboundaryField\n{{\n    {wall}\n    {farfield}\n}}\n")
     _write_sustaining_sources(d, s)
-
-
-def _write_control(d, s, iterations):
     c = s["centre"]
     _write(d / "system" / "controlDict", "dictionary", "controlDict", f"""
 application simpleFoam;
@@ -213,15 +204,6 @@ functions
     }}
 }}
 """)
-
-
-def write_case(d, s, iterations):
-    _write(d / "constant" / "transportProperties", "dictionary", "transportProperties",
-           f"transportModel Newtonian;\nnu {s['nu']!r};\n")
-    _write_model(d, s)
-    for name, spec in _field_files(s).items():
-        _write_field(d / "0", name, spec)
-    _write_control(d, s, iterations)
     _write(d / "system" / "fvSchemes", "dictionary", "fvSchemes", """
 ddtSchemes { default steadyState; }
 gradSchemes { default cellLimited Gauss linear 1; }

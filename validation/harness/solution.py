@@ -50,8 +50,7 @@ def read_solution(path, extra=()):
             z = base[name]
             if z.attrs.get("label", b"") != b"Zone_t":
                 continue
-            gc = z["GridCoordinates"]
-            x = np.stack([gc[c][" data"][()] for c in ("CoordinateX", "CoordinateY", "CoordinateZ")], axis=-1)
+            x = _nodes(z)
             fs = z["FlowSolution"]
             fields = {k: fs[v][" data"][()] for k, v in FIELDS.items()}
             fields.update({v: fs[v][" data"][()] for v in extra})
@@ -66,7 +65,10 @@ def read_nodes(path):
     with h5py.File(path, "r") as f:
         for name, z in f["Base"].items():
             if z.attrs.get("label", b"") == b"Zone_t":
-                gc = z["GridCoordinates"]
-                out[name] = np.stack([gc[c][" data"][()] for c in ("CoordinateX", "CoordinateY", "CoordinateZ")],
-                                     axis=-1)
+                out[name] = _nodes(z)
     return out
+
+
+def _nodes(zone):
+    gc = zone["GridCoordinates"]
+    return np.stack([gc[c][" data"][()] for c in ("CoordinateX", "CoordinateY", "CoordinateZ")], axis=-1)
