@@ -21,7 +21,8 @@ spheroid_turbulent compares with narwhal's turbulence.omega_wall = "cell_centre"
 brings the friction drags within 0.7 % (solver/turbulence/DESIGN.md).
 The free stream's turbulence is sustained as narwhal's when the case asks
 (turbulence.sustain_freestream): constant sources in constant/fvOptions. A peer run may
-start from a Narwhal run's solution on the same grid (seed_from_narwhal says why).
+start from a Narwhal run's solution on the same grid (seed_from_narwhal says why), or from
+the uniform stream after a start stage at a lower Reynolds number (StartStage says why).
 
 Schemes (second order, bounded where OpenFOAM's steady solver needs it): linearUpwind for
 momentum, limitedLinear for k and omega (first-order upwind, as narwhal convects them,
@@ -37,6 +38,7 @@ import math
 import re
 import subprocess
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -276,8 +278,38 @@ def seed_from_narwhal(d, s, solution, grid):
         path.write_text(text)
 
 
-def run(d, ranks, timeout=None):
-    """simpleFoam in d (its mesh in d/constant/polyMesh); the wall time of the solver alone."""
+@dataclass(frozen=True)
+class StartStage:
+    """simpleFoam's first `iterations` at Reynolds number `reynolds`, before the case's own:
+    a Reynolds-number continuation. Why: from the uniform stream simpleFoam diverges within
+    20 iterations on the SUBOFF grids (39 k to 1.3 M cells, wall cells at y+ 0.5 and at 5
+    alike): in the second iteration the cells on the nose's stagnation line carry |U| of
+    30-60 U (the uniform stream driven into the wall), with SIMPLE, SIMPLEC, first-order
+    upwind, lower relaxation or a velocity clamp alike; at Re 1e3 the same grid runs."""
+    reynolds: float
+    iterations: int
+
+
+def _solve(d, ranks, log, timeout):
+    if ranks > 1:
+        foam(["mpirun", "-np", str(ranks), "--oversubscribe", "simpleFoam", "-parallel"], d, log, timeout)
+    else:
+        foam(["simpleFoam"], d, log, timeout)
+
+
+def _edit(path, pattern, value):
+    """One `key value;` entry of a dictionary that write_case wrote; its old value."""
+    text = path.read_text()
+    m = re.search(pattern, text, flags=re.M)
+    if not m:
+        raise HarnessError(f"{path}: no entry matching {pattern!r}")
+    path.write_text(text[:m.start(1)] + value + text[m.end(1):])
+    return m.group(1)
+
+
+def run(d, ranks, timeout=None, start=None):
+    """simpleFoam in d (its mesh in d/constant/polyMesh); the wall time of the solver alone,
+    the start stage's (a StartStage, or None) included."""
     t0 = time.monotonic()
     if ranks > 1:
         # Slabs along x, equal in cell count (Debian's OpenFOAM has no scotch).
@@ -285,10 +317,19 @@ def run(d, ranks, timeout=None):
                f"numberOfSubdomains {ranks};\nmethod simple;\n"
                f"simpleCoeffs {{ n ({ranks} 1 1); delta 0.001; }}\n")
         foam(["decomposePar", "-force"], d, d / "log.decomposePar", timeout)
-        foam(["mpirun", "-np", str(ranks), "--oversubscribe", "simpleFoam", "-parallel"], d, d / "log.simpleFoam",
-             timeout)
-    else:
-        foam(["simpleFoam"], d, d / "log.simpleFoam", timeout)
+    if start:
+        # A parallel run reads constant/transportProperties from the case, not the processors.
+        transport, control = d / "constant" / "transportProperties", d / "system" / "controlDict"
+        nu = _edit(transport, r"^nu (\S+);", repr(1.0 / start.reynolds))
+        end = _edit(control, r"endTime (\d+);", str(start.iterations))
+        interval = _edit(control, r"writeInterval (\d+);", str(start.iterations))
+        _solve(d, ranks, d / "log.start", timeout)
+        _edit(transport, r"^nu (\S+);", nu)
+        _edit(control, r"endTime (\d+);", end)
+        _edit(control, r"writeInterval (\d+);", interval)
+        _edit(control, r"startFrom (\w+);", "latestTime")
+        timeout = None if timeout is None else max(timeout - (time.monotonic() - t0), 1.0)
+    _solve(d, ranks, d / "log.simpleFoam", timeout)
     return time.monotonic() - t0
 
 
@@ -300,26 +341,35 @@ def history(d, s):
     """Per iteration: (iteration, wall seconds, coefficients in grid axes {cfx .. cmz},
     their pressure and viscous parts) from the forces function object."""
     wall = {}
-    it = None
-    for line in (d / "log.simpleFoam").read_text().splitlines():
-        m = re.match(r"^Time = (\d+)", line)
-        if m:
-            it = int(m.group(1))
-        m = re.search(r"ExecutionTime = ([\d.eE+-]+) s", line)
-        if m and it is not None:
-            wall[it] = float(m.group(1))
+    offset = 0.0  # the start stage's solver time: its ExecutionTime restarts in the case's stage
+    for log in (d / "log.start", d / "log.simpleFoam"):
+        if not log.exists():
+            continue
+        it, last = None, 0.0
+        for line in log.read_text().splitlines():
+            m = re.match(r"^Time = (\d+)", line)
+            if m:
+                it = int(m.group(1))
+            m = re.search(r"ExecutionTime = ([\d.eE+-]+) s", line)
+            if m and it is not None:
+                last = float(m.group(1))
+                wall[it] = offset + last
+        offset += last
     base = d / "postProcessing" / "forces"
-    force_files, moment_files = sorted(base.glob("*/force.dat")), sorted(base.glob("*/moment.dat"))
+    # one folder per stage, named by its start time
+    by_start = lambda f: float(f.parent.name)
+    force_files, moment_files = sorted(base.glob("*/force.dat"), key=by_start), \
+        sorted(base.glob("*/moment.dat"), key=by_start)
     if not force_files or not moment_files:
         raise HarnessError(f"{base}: no force.dat / moment.dat (did simpleFoam run?)")
     q = 0.5 * s["area"]  # rho = U = 1
     rows = []
     moments = {}
-    for line in moment_files[0].read_text().splitlines():
+    for line in (line for mf in moment_files for line in mf.read_text().splitlines()):
         if not line.startswith("#") and line.strip():
             v = _numbers(line)
             moments[int(v[0])] = v[1:]
-    for line in force_files[0].read_text().splitlines():
+    for line in (line for ff in force_files for line in ff.read_text().splitlines()):
         if line.startswith("#") or not line.strip():
             continue
         v = _numbers(line)

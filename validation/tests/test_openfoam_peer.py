@@ -218,6 +218,67 @@ PEER_RUNG = GOOD.replace('input = "in.toml"\n', 'input = "in.toml"\n\n[[run]]\ni
                          'input = "in.toml"\nmax_iterations = 10\n')
 
 
+class StartStage(unittest.TestCase):
+    """The Reynolds-number continuation (openfoam.StartStage): simpleFoam's first
+    iterations at a lower Re, then the case's own, timed as one run."""
+
+    def write(self, d, iterations=300):
+        s = openfoam.case_settings(CASE, "case.toml")
+        openfoam.write_case(d, s, iterations)
+        return s
+
+    def test_the_start_stage_runs_at_its_reynolds_number_then_the_case_continues(self):
+        d = Path(tempfile.mkdtemp())
+        s = self.write(d)
+        seen = []
+
+        def fake_foam(cmd, cwd, log, timeout=None):
+            control = (cwd / "system" / "controlDict").read_text()
+            nu = re.search(r"^nu (\S+);", (cwd / "constant" / "transportProperties").read_text(), re.M).group(1)
+            seen.append((log.name, float(nu), re.search(r"endTime (\d+);", control).group(1),
+                         re.search(r"startFrom (\w+);", control).group(1),
+                         re.search(r"writeInterval (\d+);", control).group(1)))
+        real = openfoam.foam
+        openfoam.foam = fake_foam
+        try:
+            openfoam.run(d, 1, start=openfoam.StartStage(reynolds=1.0e4, iterations=100))
+        finally:
+            openfoam.foam = real
+        self.assertEqual(seen, [("log.start", 1.0e-4, "100", "startTime", "100"),
+                                ("log.simpleFoam", s["nu"], "300", "latestTime", "300")])
+
+    def test_without_a_start_stage_the_case_runs_from_its_start(self):
+        d = Path(tempfile.mkdtemp())
+        self.write(d)
+        seen = []
+        real = openfoam.foam
+        openfoam.foam = lambda cmd, cwd, log, timeout=None: seen.append(log.name)
+        try:
+            openfoam.run(d, 1)
+        finally:
+            openfoam.foam = real
+        self.assertEqual(seen, ["log.simpleFoam"])
+        self.assertIn("startFrom startTime;", (d / "system" / "controlDict").read_text())
+
+    def test_the_history_runs_on_through_both_stages_with_the_start_stages_time(self):
+        d = Path(tempfile.mkdtemp()) / "foam"
+        s = openfoam.case_settings(CASE, "case.toml")
+        fake_foam_run(d, [(1.0, 0.0, 0.0), (0.5, 0.0, 0.0), (0.5, 0.0, 0.0)],
+                      [(0.0, 0.0, 0.0)] * 3, iterations=2)
+        (d / "log.simpleFoam").rename(d / "log.start")
+        # the case's stage: iterations 3 and 4, its execution time from zero again
+        (d / "log.simpleFoam").write_text("".join(f"Time = {i}\n\nExecutionTime = {0.25 * (i - 2)} s\n\n"
+                                                  for i in (3, 4)))
+        second = d / "postProcessing" / "forces" / "2"
+        second.mkdir(parents=True)
+        for name, v in (("force.dat", "(2 0 0)\t(1 0 0)\t(1 0 0)"), ("moment.dat", "(0 0 0)\t(0 0 0)\t(0 0 0)")):
+            (second / name).write_text("# forces\n" + "".join(f"{i}\t{v}\n" for i in (3, 4)))
+        rows = openfoam.history(d, s)
+        self.assertEqual([r[0] for r in rows], [1, 2, 3, 4])
+        self.assertEqual([r[1] for r in rows], [0.5, 1.0, 1.25, 1.5])
+        self.assertAlmostEqual(rows[-1][2]["total"]["cfx"], 2.0)
+
+
 class PeerRuns(unittest.TestCase):
     def rung(self, text):
         d = Path(tempfile.mkdtemp()) / "r"
