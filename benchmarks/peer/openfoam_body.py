@@ -7,7 +7,9 @@ the one the spheroid rung runs; both codes report the force coefficient on 1/2 U
 Each code first runs well past its answer; the iteration after which its drag stays
 within `--steady` (0.1 %) of its final value is where it has the answer. Each is then run
 again from scratch, stopped at that iteration, `--repeat` times in alternation: the median
-of those wall times (set-up included) is its time to the answer.
+of those wall times (set-up included) is its time to the answer. peer_body.json in --out
+records each finished run: rerun with the same arguments, the benchmark continues where it
+stopped (a simpleFoam run on a 1 M-cell grid takes hours).
 
 OpenFOAM (Debian package `openfoam`) is installed by ci/nightly only, never by CI.
 
@@ -56,6 +58,19 @@ def time_to_steady(rows, tol):
     return rows[-1][0], rows[-1][1], final
 
 
+def resumed(path, identity):
+    """The results so far of this same benchmark in --out (its runs already done), or a fresh
+    record; results of another benchmark there are an error naming the first key that differs."""
+    if not path.exists():
+        return dict(identity)
+    done = json.loads(path.read_text())
+    for key, value in identity.items():
+        if done.get(key) != value:
+            sys.exit(f"{path}: holds another benchmark's results ({key}: {done.get(key)!r}, now {value!r}); "
+                     "choose another --out or remove it")
+    return done
+
+
 def run_narwhal(a, sets, d, max_iterations=None):
     """One Narwhal run; the process's wall time (set-up included)."""
     shutil.rmtree(d, ignore_errors=True)
@@ -101,31 +116,45 @@ def main():
     overrides = dict(o.split("=", 1) for o in a.set)
     s = openfoam.case_settings(effective_input(SimpleNamespace(input=a.case, set=overrides)), a.case)
     sets = sum((["--set", x] for x in a.set), [])
-    results = {"case": a.case, "set": a.set, "steady_tolerance": a.steady, "ranks": a.ranks,
-               "openfoam_start": {"reynolds": a.start_reynolds, "iterations": a.start_iterations}
-               if a.start_reynolds else None}
+    version = subprocess.run([a.narwhal, "--version"], capture_output=True, text=True).stdout.strip()
+    identity = {"case": a.case, "set": a.set, "steady_tolerance": a.steady, "ranks": a.ranks, "repeat": a.repeat,
+                "openfoam_iterations": a.iterations, "narwhal_version": version,
+                "openfoam_start": {"reynolds": a.start_reynolds, "iterations": a.start_iterations}
+                if a.start_reynolds else None}
+    results = resumed(out / "peer_body.json", identity)
+    save = lambda: (out / "peer_body.json").write_text(json.dumps(results, indent=1) + "\n")
     # 1. One run of each code well past its answer: where its drag became steady, and the
     #    answer itself.
-    run_narwhal(a, sets, out / "narwhal")
-    n_it, _, n_cd = time_to_steady(narwhal_history(out / "narwhal"), a.steady)
-    run_openfoam(a, sets, s, out / "openfoam", a.iterations)
-    f_it, _, f_cd = time_to_steady(foam_history(out / "openfoam", s), a.steady)
-    if a.start_reynolds and f_it <= a.start_iterations:  # steady at the start stage's Re is not the answer
-        sys.exit(f"simpleFoam's drag was steady from iteration {f_it}, inside its start stage: "
-                 "run it longer (--iterations)")
-    results["narwhal"] = {"iterations_to_steady": n_it, "cd": n_cd, "timed_s": []}
-    results["openfoam"] = {"iterations_to_steady": f_it, "cd": f_cd, "timed_s": []}
+    if "narwhal" not in results:
+        run_narwhal(a, sets, out / "narwhal")
+        n_it, _, n_cd = time_to_steady(narwhal_history(out / "narwhal"), a.steady)
+        results["narwhal"] = {"iterations_to_steady": n_it, "cd": n_cd, "timed_s": []}
+        save()
+    if "openfoam" not in results:
+        run_openfoam(a, sets, s, out / "openfoam", a.iterations)
+        f_it, _, f_cd = time_to_steady(foam_history(out / "openfoam", s), a.steady)
+        if a.start_reynolds and f_it <= a.start_iterations:  # steady at the start stage's Re is not the answer
+            sys.exit(f"simpleFoam's drag was steady from iteration {f_it}, inside its start stage: "
+                     "run it longer (--iterations)")
+        results["openfoam"] = {"iterations_to_steady": f_it, "cd": f_cd, "timed_s": []}
+        save()
     print(json.dumps(results), flush=True)
     # 2. Time to that answer: each code run again from scratch and stopped there,
-    #    alternately, `repeat` times (the machine is noisy: medians).
+    #    alternately, `repeat` times (the machine is noisy: medians). Each finished run is
+    #    saved, so that a benchmark longer than one sitting continues where it stopped.
+    n_it, f_it = results["narwhal"]["iterations_to_steady"], results["openfoam"]["iterations_to_steady"]
     for rep in range(a.repeat):
-        results["narwhal"]["timed_s"].append(run_narwhal(a, sets, out / f"narwhal_t{rep}", n_it))
-        results["openfoam"]["timed_s"].append(run_openfoam(a, sets, s, out / f"openfoam_t{rep}", f_it))
-        print(json.dumps({c: results[c]["timed_s"][-1] for c in ("narwhal", "openfoam")}), flush=True)
+        if len(results["narwhal"]["timed_s"]) <= rep:
+            results["narwhal"]["timed_s"].append(run_narwhal(a, sets, out / f"narwhal_t{rep}", n_it))
+            save()
+        if len(results["openfoam"]["timed_s"]) <= rep:
+            results["openfoam"]["timed_s"].append(run_openfoam(a, sets, s, out / f"openfoam_t{rep}", f_it))
+            save()
+        print(json.dumps({c: results[c]["timed_s"][rep] for c in ("narwhal", "openfoam")}), flush=True)
     for code in ("narwhal", "openfoam"):
         results[code]["median_s_to_steady"] = statistics.median(results[code]["timed_s"])
     results["speed_ratio"] = results["openfoam"]["median_s_to_steady"] / results["narwhal"]["median_s_to_steady"]
-    (out / "peer_body.json").write_text(json.dumps(results, indent=1) + "\n")
+    save()
     print(json.dumps(results, indent=1))
 
 
