@@ -284,8 +284,9 @@ class StartStage:
     a Reynolds-number continuation. Why: from the uniform stream simpleFoam diverges within
     20 iterations on the SUBOFF grids (39 k to 1.3 M cells, wall cells at y+ 0.5 and at 5
     alike): in the second iteration the cells on the nose's stagnation line carry |U| of
-    30-60 U (the uniform stream driven into the wall), with SIMPLE, SIMPLEC, first-order
-    upwind, lower relaxation or a velocity clamp alike; at Re 1e3 the same grid runs."""
+    30-60 U (the uniform stream driven into the wall), with first-order upwind, lower
+    relaxation or a velocity clamp alike, and with SIMPLEC on 1.06 M cells; at Re 1e3 the
+    same grid runs (benchmarks/README.md)."""
     reynolds: float
     iterations: int
 
