@@ -9,7 +9,8 @@ within `--steady` (0.1 %) of its final value is where it has the answer. Each is
 again from scratch, stopped at that iteration, `--repeat` times in alternation: the median
 of those wall times (set-up included) is its time to the answer. peer_body.json in --out
 records each finished run: rerun with the same arguments, the benchmark continues where it
-stopped (a simpleFoam run on a 1 M-cell grid takes hours).
+stopped (a simpleFoam run on a 1 M-cell grid takes hours); the converging simpleFoam run
+itself continues from its last write (every 50 iterations).
 
 OpenFOAM (Debian package `openfoam`) is installed by ci/nightly only, never by CI.
 
@@ -32,6 +33,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 ROOT = Path(__file__).resolve().parents[2]
+CHECKPOINT = 50  # iterations between the converging simpleFoam run's writes
 sys.path.insert(0, str(ROOT / "validation"))
 from harness import openfoam  # noqa: E402  (the peer case: one place, shared with the harness)
 from harness.runner import effective_input  # noqa: E402
@@ -84,13 +86,13 @@ def run_narwhal(a, sets, d, max_iterations=None):
     return time.monotonic() - t0
 
 
-def run_openfoam(a, sets, s, d, iterations):
+def run_openfoam(a, sets, s, d, iterations, write_interval=None):
     """One simpleFoam run on Narwhal's grid; its wall time (decomposition, the start
     stage and the solver's start-up, wall distance included; the mesh export excluded)."""
     shutil.rmtree(d, ignore_errors=True)
     subprocess.run([a.narwhal, "grid", a.case, "--out", str(d / "narwhal_grid"), "--openfoam", str(d)] + sets,
                    check=True, stdout=subprocess.DEVNULL)
-    openfoam.write_case(d, s, iterations)
+    openfoam.write_case(d, s, iterations, write_interval)
     start = openfoam.StartStage(a.start_reynolds, a.start_iterations) if a.start_reynolds else None
     return openfoam.run(d, a.ranks, start=start)
 
@@ -131,7 +133,15 @@ def main():
         results["narwhal"] = {"iterations_to_steady": n_it, "cd": n_cd, "timed_s": []}
         save()
     if "openfoam" not in results:
-        run_openfoam(a, sets, s, out / "openfoam", a.iterations)
+        # The converging run may outlast a sitting: it writes its solution every
+        # CHECKPOINT iterations, and a stopped one continues from there (its wall time is
+        # not the measurement; the timed runs below are).
+        if results.get("openfoam_started") and (out / "openfoam" / "log.simpleFoam").exists():
+            openfoam.resume(out / "openfoam", a.ranks)
+        else:
+            results["openfoam_started"] = True
+            save()
+            run_openfoam(a, sets, s, out / "openfoam", a.iterations, write_interval=CHECKPOINT)
         f_it, _, f_cd = time_to_steady(foam_history(out / "openfoam", s), a.steady)
         if a.start_reynolds and f_it <= a.start_iterations:  # steady at the start stage's Re is not the answer
             sys.exit(f"simpleFoam's drag was steady from iteration {f_it}, inside its start stage: "

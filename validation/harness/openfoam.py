@@ -149,7 +149,10 @@ sustainFreeStream
 """)
 
 
-def write_case(d, s, iterations):
+def write_case(d, s, iterations, write_interval=None):
+    """The OpenFOAM case in d for `iterations` SIMPLE iterations; the solution is written at
+    the end, or every `write_interval` iterations (the last write kept) for a run that may
+    have to be continued (resume)."""
     nu, k, w, e = s["nu"], s["k"], s["omega"], s["epsilon"]
     u = "({} {} {})".format(*(repr(x) for x in s["direction"]))
     _write(d / "constant" / "transportProperties", "dictionary", "transportProperties",
@@ -184,7 +187,7 @@ def write_case(d, s, iterations):
     _write(d / "system" / "controlDict", "dictionary", "controlDict", f"""
 application simpleFoam;
 startFrom startTime; startTime 0; stopAt endTime; endTime {iterations}; deltaT 1;
-writeControl timeStep; writeInterval {iterations}; purgeWrite 1; writeFormat binary;
+writeControl timeStep; writeInterval {write_interval or iterations}; purgeWrite 1; writeFormat binary;
 runTimeModifiable false;
 functions
 {{
@@ -334,6 +337,30 @@ def run(d, ranks, timeout=None, start=None):
     return time.monotonic() - t0
 
 
+def resume(d, ranks, timeout=None):
+    """Continue the case's stage of a run that was stopped (its sitting ended) from its last
+    written iteration, in a further log (log.simpleFoam.2, .3 ...; history() reads them in
+    order); the wall time of this leg alone. The iterations after that write are repeated."""
+    t0 = time.monotonic()
+    if not (d / "log.simpleFoam").exists():
+        raise HarnessError(f"{d}: no log.simpleFoam: the case's stage never started, nothing to continue")
+    _edit(d / "system" / "controlDict", r"startFrom (\w+);", "latestTime")
+    _solve(d, ranks, d / f"log.simpleFoam.{len(_legs(d)) + 1}", timeout)
+    return time.monotonic() - t0
+
+
+def _legs(d):
+    """The case stage's logs in the order they were run: log.simpleFoam, then resume's."""
+    more = sorted(d.glob("log.simpleFoam.*"), key=lambda p: int(p.suffix[1:]))
+    return [d / "log.simpleFoam"] + more if (d / "log.simpleFoam").exists() else []
+
+
+def _in_run_order(base, name):
+    """The forces function object's files: one folder per (re)start, named by its start time;
+    a restart at a time that already has a folder writes name_<time>.dat beside the first."""
+    return sorted(base.glob(f"*/{name}*.dat"), key=lambda f: (float(f.parent.name), f.stat().st_mtime))
+
+
 def _numbers(line):
     return [float(x) for x in re.sub(r"[()]", " ", line).split()]
 
@@ -343,7 +370,7 @@ def history(d, s):
     their pressure and viscous parts) from the forces function object."""
     wall = {}
     offset = 0.0  # the start stage's solver time: its ExecutionTime restarts in the case's stage
-    for log in (d / "log.start", d / "log.simpleFoam"):
+    for log in [d / "log.start"] + _legs(d):
         if not log.exists():
             continue
         it, last = None, 0.0
@@ -357,27 +384,24 @@ def history(d, s):
                 wall[it] = offset + last
         offset += last
     base = d / "postProcessing" / "forces"
-    # one folder per stage, named by its start time
-    by_start = lambda f: float(f.parent.name)
-    force_files, moment_files = sorted(base.glob("*/force.dat"), key=by_start), \
-        sorted(base.glob("*/moment.dat"), key=by_start)
+    force_files, moment_files = _in_run_order(base, "force"), _in_run_order(base, "moment")
     if not force_files or not moment_files:
         raise HarnessError(f"{base}: no force.dat / moment.dat (did simpleFoam run?)")
     q = 0.5 * s["area"]  # rho = U = 1
+
+    def by_iteration(files):  # a continued run repeats iterations: the later leg's values hold
+        rows = {}
+        for line in (line for f in files for line in f.read_text().splitlines()):
+            if not line.startswith("#") and line.strip():
+                v = _numbers(line)
+                rows[int(v[0])] = v[1:]
+        return rows
+    forces, moments = by_iteration(force_files), by_iteration(moment_files)
     rows = []
-    moments = {}
-    for line in (line for mf in moment_files for line in mf.read_text().splitlines()):
-        if not line.startswith("#") and line.strip():
-            v = _numbers(line)
-            moments[int(v[0])] = v[1:]
-    for line in (line for ff in force_files for line in ff.read_text().splitlines()):
-        if line.startswith("#") or not line.strip():
-            continue
-        v = _numbers(line)
-        i = int(v[0])
+    for i in sorted(forces):
         if i not in moments or i not in wall:
             continue
-        f, m = v[1:], moments[i]  # total, pressure, viscous: 3 components each
+        f, m = forces[i], moments[i]  # total, pressure, viscous: 3 components each
         parts = {}
         for name, off in (("total", 0), ("pressure", 3), ("friction", 6)):
             parts[name] = {**{f"cf{a}": f[off + j] / q for j, a in enumerate("xyz")},

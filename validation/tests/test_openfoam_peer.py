@@ -279,6 +279,60 @@ class StartStage(unittest.TestCase):
         self.assertAlmostEqual(rows[-1][2]["total"]["cfx"], 2.0)
 
 
+class Resume(unittest.TestCase):
+    """A converging run longer than a sitting (openfoam.resume): written every few
+    iterations, continued from its last write in a further log, read back as one history."""
+
+    def test_the_write_interval_is_the_one_asked_for(self):
+        d = Path(tempfile.mkdtemp())
+        openfoam.write_case(d, openfoam.case_settings(CASE, "case.toml"), 300, write_interval=50)
+        self.assertIn("writeInterval 50;", (d / "system" / "controlDict").read_text())
+
+    def test_each_leg_continues_from_the_latest_write_in_its_own_log(self):
+        d = Path(tempfile.mkdtemp())
+        openfoam.write_case(d, openfoam.case_settings(CASE, "case.toml"), 300, write_interval=50)
+        (d / "log.simpleFoam").write_text("Time = 1\n")
+        seen = []
+
+        def fake_foam(cmd, cwd, log, timeout=None):
+            seen.append((log.name, re.search(r"startFrom (\w+);", (cwd / "system" / "controlDict").read_text()).group(1)))
+            log.write_text("")
+        real = openfoam.foam
+        openfoam.foam = fake_foam
+        try:
+            openfoam.resume(d, 1)
+            openfoam.resume(d, 1)
+        finally:
+            openfoam.foam = real
+        self.assertEqual(seen, [("log.simpleFoam.2", "latestTime"), ("log.simpleFoam.3", "latestTime")])
+
+    def test_a_run_whose_case_stage_never_started_is_not_continued(self):
+        d = Path(tempfile.mkdtemp())
+        openfoam.write_case(d, openfoam.case_settings(CASE, "case.toml"), 300)
+        with self.assertRaises(HarnessError) as cm:
+            openfoam.resume(d, 1)
+        self.assertIn("log.simpleFoam", str(cm.exception))
+
+    def test_the_history_takes_the_repeated_iterations_from_the_later_leg(self):
+        d = Path(tempfile.mkdtemp()) / "foam"
+        s = openfoam.case_settings(CASE, "case.toml")
+        # leg 1 ran iterations 1-3 (drag 1) and was stopped; its last write was at 2
+        fake_foam_run(d, [(1.0, 0.0, 0.0)] * 3, [(0.0, 0.0, 0.0)] * 3, iterations=3)
+        # leg 2: iterations 3 and 4 again from the write at 2, drag 2, its time from zero;
+        # the forces object writes beside the folder "2" (none existed: a new one)
+        (d / "log.simpleFoam.2").write_text("".join(f"Time = {i}\n\nExecutionTime = {0.25 * (i - 2)} s\n\n"
+                                                    for i in (3, 4)))
+        again = d / "postProcessing" / "forces" / "2"
+        again.mkdir(parents=True)
+        for name, v in (("force.dat", "(2 0 0)\t(1 0 0)\t(1 0 0)"), ("moment.dat", "(0 0 0)\t(0 0 0)\t(0 0 0)")):
+            (again / name).write_text("# forces\n" + "".join(f"{i}\t{v}\n" for i in (3, 4)))
+        rows = openfoam.history(d, s)
+        self.assertEqual([r[0] for r in rows], [1, 2, 3, 4])
+        q = 0.5 * s["area"]
+        self.assertEqual([r[2]["total"]["cfx"] * q for r in rows], [1.0, 1.0, 2.0, 2.0])
+        self.assertEqual([r[1] for r in rows], [0.5, 1.0, 1.75, 2.0])  # leg 1 ended at 1.5 s
+
+
 class PeerRuns(unittest.TestCase):
     def rung(self, text):
         d = Path(tempfile.mkdtemp()) / "r"

@@ -25,14 +25,22 @@ class Resume(unittest.TestCase):
             runs.append(("narwhal", d.name))
             return float(len(runs))
 
-        def openfoam(a, sets, s, d, iterations):
+        def openfoam(a, sets, s, d, iterations, write_interval=None):
+            if d.name == "openfoam":  # the converging run: simpleFoam starts its log
+                d.mkdir(parents=True, exist_ok=True)
+                (d / "log.simpleFoam").write_text("")
             if fail_openfoam_at is not None and d.name == fail_openfoam_at:
                 raise KeyboardInterrupt  # the sitting ends inside this run
             runs.append(("openfoam", d.name))
             return float(len(runs))
+
+        def resume(d, ranks, timeout=None):
+            runs.append(("resume", d.name))
+            return 1.0
         history = lambda first: [(i, float(i), 2.0 if i < first else 1.0) for i in range(1, 11)]
         argv = ["openfoam_body.py", CASE, "--out", str(out), "--repeat", "2", "--narwhal", sys.executable]
         with mock.patch.object(bench, "run_narwhal", narwhal), mock.patch.object(bench, "run_openfoam", openfoam), \
+                mock.patch.object(bench.openfoam, "resume", resume), \
                 mock.patch.object(bench, "narwhal_history", lambda d: history(3)), \
                 mock.patch.object(bench, "foam_history", lambda d, s: history(7)), \
                 mock.patch.object(sys, "argv", argv), mock.patch("builtins.print"):
@@ -53,6 +61,16 @@ class Resume(unittest.TestCase):
         self.assertEqual(done["narwhal"]["timed_s"], [3.0, 5.0])
         self.assertEqual(done["openfoam"]["timed_s"], [4.0, 1.0])
         self.assertAlmostEqual(done["speed_ratio"], 2.5 / 4.0)
+
+    def test_a_converging_run_stopped_with_its_sitting_is_continued_not_restarted(self):
+        out = Path(tempfile.mkdtemp())
+        first, second = [], []
+        with self.assertRaises(KeyboardInterrupt):
+            self.run_bench(out, first, fail_openfoam_at="openfoam")
+        self.run_bench(out, second)
+        self.assertEqual(first, [("narwhal", "narwhal")])
+        self.assertEqual(second[0], ("resume", "openfoam"))
+        self.assertNotIn(("openfoam", "openfoam"), second)
 
     def test_results_of_another_benchmark_are_refused_naming_the_key(self):
         out = Path(tempfile.mkdtemp())
