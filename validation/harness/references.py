@@ -23,6 +23,15 @@ def _munk_moment(ref, p):
     return 2.0 * (k2 - k1) * volume * math.sin(a) * math.cos(a) / (p["area_ref"] * p["length_ref"])
 
 
+def _potential_flow_cp(ref):
+    """Cp(x/L) of potential flow about a body of revolution given by its offsets (columns
+    x_over_LOA, r_over_LOA from nose to tail, suboff_hull_offsets.csv): a panel on each
+    interval between offsets (harness/potential_flow.py)."""
+    from .potential_flow import surface_cp
+    xm, _, cp = surface_cp(ref.column("x_over_LOA"), ref.column("r_over_LOA"))
+    return Curve(xm, cp, "potential flow about the offsets (vortex-ring panels)")
+
+
 DERIVED = {
     # Cf(x) = 2 f''(0) / sqrt(Re x)
     "blasius_cf": lambda ref, p: (lambda x, c=2.0 * float(ref.column("fpp")[0]), re=p["reynolds"]:
@@ -35,6 +44,8 @@ DERIVED = {
     # coefficient 2 M / (A_ref L_ref): M = (k2 - k1) V sin a cos a (rho U^2 L^3 units), the
     # k's from the row of the body's aspect ratio, V = pi L^3 / (6 ratio^2).
     "munk_moment": lambda ref, p: _munk_moment(ref, p),
+    # inviscid surface pressure of a body of revolution at zero incidence
+    "potential_flow_cp": lambda ref, p: _potential_flow_cp(ref),
     # u/U_e = f'(eta)
     "blasius_profile": lambda ref, p: Curve(ref.column("eta"), ref.column("fp"), "Blasius f'(eta)"),
 }
