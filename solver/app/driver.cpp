@@ -46,10 +46,11 @@ FlowParams flow_params(const CaseConfig& c) {
   const Vec3 g = c.body_force;
   if (c.manufactured) {
     const ManufacturedSolution ms = c.mms;
-    fp.momentum_source = [ms, g](const Vec3& x) { return Vec3(ms.momentum_source(x) + g); };
+    fp.sources.push_back(position_source("manufactured solution's forcing",
+                                         [ms, g](const Vec3& x) { return Vec3(ms.momentum_source(x) + g); }));
     fp.exact = [ms](const Vec3& x) { return ms.exact(x); };
   } else if (g.squaredNorm() > 0.0) {
-    fp.momentum_source = [g](const Vec3&) { return g; };
+    fp.sources.push_back(position_source("body force", [g](const Vec3&) { return g; }));
   }
   return fp;
 }
@@ -233,7 +234,7 @@ class SteadyRun {
     fp_ = flow_params(c_);
     if (c_.bulk_velocity > 0.0) {
       flow_rate_ = std::make_unique<FlowRateControl>(g_, c_.body_force, c_.bulk_velocity);
-      fp_.momentum_source = flow_rate_->source();
+      fp_.sources = {position_source("flow-rate control", flow_rate_->source())};  // it adjusts the body force
     }
     field_.allocate(g_, fp_, c_.initial);
   }

@@ -246,6 +246,7 @@ void NewtonSolver::assemble_block(int ib, Real cfl) {
         }
         if (fp_.viscous != ViscousForm::Inviscid) lambda += 2.0 * nu(c) * s2 / b.vol(c);
         if (std::isfinite(cfl)) D.diagonal().array() += lambda / cfl;  // V/dtau = Lambda/CFL
+        for (const auto& source : fp_.sources) source->add_to_diagonal(b, c, Q(c), D);
         Dinv_[ib](c) = D.inverse();
       }
 }

@@ -7,6 +7,7 @@
 #include "fields/ghost_array.hpp"
 #include "mesh/block.hpp"
 #include "physics/muscl.hpp"
+#include "physics/volume_source.hpp"
 
 namespace narwhal {
 
@@ -18,9 +19,8 @@ struct FlowParams {
   Real reynolds = 1.0e5;    // Re = U L / nu
   MusclParams muscl;
   ViscousForm viscous = ViscousForm::Full;
-  // Manufactured-solution hooks (§12.2): momentum source per unit volume at a
-  // point, and the exact state used by Dirichlet patches. Empty when unused.
-  std::function<Vec3(const Vec3&)> momentum_source;
+  VolumeSources sources;  // volume sources of the residual (physics/volume_source.hpp)
+  // The exact state of a manufactured solution (§12.2), for Dirichlet patches; empty when unused.
   std::function<State(const Vec3&)> exact;
 };
 

@@ -1,6 +1,7 @@
 #include "physics/invariant_direction.hpp"
 
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -108,8 +109,11 @@ std::string mark_invariant_directions(Grid& g, const FlowField& f, const FlowPar
         if (across(p.velocity)) return fmt::format("not planar: patch '{}' has a velocity across the plane", p.label);
       bool flow_across = false;
       for_each_cell(b, [&](int i, int j, int k) {
-        flow_across = flow_across || across(f.Q[ib](i, j, k).tail<3>()) ||
-                      (fp.momentum_source && across(fp.momentum_source(b.xc(i, j, k))));
+        flow_across = flow_across || across(f.Q[ib](i, j, k).tail<3>());
+        for (const auto& source : fp.sources) {
+          const std::optional<Vec3> m = source->momentum_at(b.xc(i, j, k));
+          flow_across = flow_across || !m || across(*m);  // a state-dependent source might push across
+        }
       });
       if (flow_across) return fmt::format("not planar: flow across the plane in block '{}'", b.name);
     }

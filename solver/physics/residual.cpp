@@ -144,11 +144,7 @@ void compute_residual(const Grid& g, const FlowField& fl, const FlowParams& fp, 
       });
     }
     if (ib < fl.tau_nl.size()) add_nonlinear_stress_flux(b, fl.tau_nl[ib], Rb);
-    if (fp.momentum_source) {
-      for (int k = 0; k < b.nk; ++k)
-        for (int j = 0; j < b.nj; ++j)
-          for (int i = 0; i < b.ni; ++i) Rb(i, j, k).tail<3>() -= b.vol(i, j, k) * fp.momentum_source(b.xc(i, j, k));
-    }
+    for (const auto& source : fp.sources) source->add_to_residual(b, Q, Rb);
   }
 }
 

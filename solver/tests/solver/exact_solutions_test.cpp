@@ -41,11 +41,11 @@ ChannelRun run_channel(int ny, Real stretch_dy, Real top_speed, Real G, Real Re,
   r.fp.reynolds = Re;
   r.fp.beta = 5.0;
   r.fp.viscous = form;
-  if (G != 0.0) r.fp.momentum_source = [G](const Vec3&) { return Vec3(G, 0.0, 0.0); };
+  if (G != 0.0) r.fp.sources = {position_source("body force", [G](const Vec3&) { return Vec3(G, 0.0, 0.0); })};
   std::unique_ptr<FlowRateControl> control;
   if (target_ub > 0.0) {
     control = std::make_unique<FlowRateControl>(r.g, Vec3(G, 0.0, 0.0), target_ub);
-    r.fp.momentum_source = control->source();
+    r.fp.sources = {position_source("flow-rate control", control->source())};
   }
   State init;
   init << 0.0, 0.0, 0.0, 0.0;
