@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "app/dual_time.hpp"
 #include "app/force_steadiness.hpp"
 #include "app/stall_detector.hpp"
 #include "app/turbulence_coupling.hpp"
@@ -37,6 +38,7 @@ const char* to_string(RunStatus s) {
     case RunStatus::MaxIterations: return "max_iterations";
     case RunStatus::Stalled: return "stalled";
     case RunStatus::Diverged: return "diverged";
+    case RunStatus::Completed: return "completed";
   }
   return "?";
 }
@@ -217,7 +219,10 @@ class SteadyRun {
     build_solvers();
     open_monitors();
     announce();
-    iterate();
+    if (c_.time.unsteady())
+      march();
+    else
+      iterate();
     finish();
     return s_;
   }
@@ -257,6 +262,9 @@ class SteadyRun {
   // Every rank reads the restart (written in the case's layout) and keeps its pieces.
   void restore_state() {
     if (!opt_.restart) return;
+    if (c_.time.unsteady())
+      fail("{}: continuing a dual-time run from a restart is not supported yet (its old time levels are not saved)",
+           *opt_.restart);
     if (pieces_) {
       FlowField w;
       w.allocate(whole_, fp_, c_.initial);
@@ -295,12 +303,11 @@ class SteadyRun {
 
   // Wall groups are known from the patches; forces appear in the history per group.
   void open_monitors() {
-    std::vector<std::string> groups;
-    for (const auto& [name, list] : wall_faces(g_, field_, fp_)) groups.push_back(name);  // every rank: all groups
+    for (const auto& [name, list] : wall_faces(g_, field_, fp_)) groups_.push_back(name);  // every rank: all groups
     for (int m = 0; turb_ && m < turb_->num_variables(); ++m) turb_names_.push_back(turb_->variable_name(m));
     monitors_ = Monitors(turb_names_.size());
     if (root_)
-      history_ = std::make_unique<HistoryWriter>(file("history.csv"), groups, turb_names_,
+      history_ = std::make_unique<HistoryWriter>(file("history.csv"), groups_, turb_names_,
                                                  continuing_ ? std::optional<int>(info_.iteration) : std::nullopt);
     s_.iterations = info_.iteration;
     if (!opt_.restart) return;
@@ -316,6 +323,13 @@ class SteadyRun {
 
   void announce() const {
     if (opt_.progress || !root_) return;
+    if (c_.time.unsteady()) {
+      fmt::print("narwhal: {} — {} blocks, {} cells{}, {} steps of {} ({}), up to {} {} each\n", c_.title,
+                 g_.blocks.size(), g_.cells(), comm_.size() > 1 ? fmt::format(", {} ranks", comm_.size()) : std::string(),
+                 c_.time.steps, c_.time.step, c_.time.scheme == TimeConfig::Scheme::Bdf2 ? "BDF2" : "BDF1",
+                 c_.time.max_subiterations, mg_ ? "cycles" : "Newton iterations");
+      return;
+    }
     fmt::print("narwhal: {} — {} blocks, {} cells{}, up to {} {}\n", c_.title, g_.blocks.size(), g_.cells(),
                comm_.size() > 1 ? fmt::format(", {} ranks", comm_.size()) : std::string(), max_it_,
                mg_ ? fmt::format("{}-cycles on {} levels", c_.solver.multigrid.gamma == 2 ? "W" : "V", mg_->levels())
@@ -354,6 +368,77 @@ class SteadyRun {
       s_.message = fmt::format("not converged (mean-flow drop {:.2e}{}); largest residual at {}", s_.residual_drop,
                                turb_ ? fmt::format(", turbulence drop {:.2e}", monitors_.turb_drop) : std::string(),
                                solver().describe_largest_residual());
+    close_loop();
+  }
+
+  // A dual-time run (§6.8): physical steps, each moving the time levels on and
+  // sub-iterating in pseudo time on R* = 0 (§6.7), its forces written to steps.csv.
+  void march() {
+    started_ = Clock::now();
+    dual_time_ = std::make_unique<DualTime>(g_, c_.time);
+    if (mg_)
+      mg_->use_physical_time(&dual_time_->term());
+    else
+      single_->set_physical_time(&dual_time_->term());
+    if (root_) steps_ = std::make_unique<StepsWriter>(file("steps.csv"), groups_);
+    try {
+      while (s_.status == RunStatus::MaxIterations && dual_time_->step() < c_.time.steps) {
+        dual_time_->begin_step(g_, field_);
+        const auto [subiterations, drop] = sub_iterate();
+        if (s_.status == RunStatus::Diverged) break;
+        if (steps_) steps_->write(dual_time_->step(), dual_time_->time(), subiterations, drop, forces_);
+        show_step_progress(subiterations, drop);
+      }
+      if (s_.status == RunStatus::MaxIterations) s_.status = RunStatus::Completed;
+    } catch (const DivergenceError& e) {
+      s_.status = RunStatus::Diverged;
+      s_.message = fmt::format("step {}, iteration {}: {}", dual_time_->step(), s_.iterations + 1, e.what());
+    }
+    close_loop();
+  }
+
+  // One physical step's pseudo-time iterations (§6.7): until |R*| / |R*_0| falls below
+  // time.subiteration_drop, at least min and at most max of them. Each iteration's
+  // residual is that of the state entering it. Returns the count and the drop reached.
+  std::pair<int, Real> sub_iterate() {
+    Real first = 0.0, drop = 1.0;
+    int m = 0;
+    while (m < c_.time.max_subiterations) {
+      const int it = s_.iterations + 1;
+      const Real cfl = c_.time.pseudo_cfl;
+      const IterationNorms n = mg_ ? mg_->cycle_with_cfl(cfl) : solver().iterate_with_cfl(cfl);
+      if (++m == 1) first = n.total;
+      drop = first > 0.0 ? n.total / first : 0.0;
+      monitors_.take_mean_flow(n, first > 0.0 ? first : 1.0);
+      if (turb_) monitors_.take_turbulence(coupling_->after_mean_flow_step(cfl));
+      measure_forces();
+      if (history_) history_->write(it, elapsed(), monitors_.last, forces_, monitors_.turb_res);
+      s_.iterations = it;
+      s_.residual_drop = drop;
+      if (!std::isfinite(n.total) || drop > c_.solver.divergence_factor) {
+        s_.status = RunStatus::Diverged;
+        s_.message = fmt::format("step {}, iteration {}: residual grew by {:.2e} within the step (limit {:.1e}); "
+                                 "largest at {}", dual_time_->step(), it, drop, c_.solver.divergence_factor,
+                                 solver().describe_largest_residual());
+        break;
+      }
+      if (m >= c_.time.min_subiterations && drop < c_.time.subiteration_drop) break;
+    }
+    return {m, drop};
+  }
+
+  void show_step_progress(int subiterations, Real drop) {
+    if (!opt_.progress || !root_ || Clock::now() - last_print_ < std::chrono::milliseconds(200)) return;
+    last_print_ = Clock::now();
+    std::string f;
+    for (const auto& [name, fc] : forces_) f += fmt::format("  {} CF=({:.5f},{:.5f})", name, fc.force[0], fc.force[1]);
+    fmt::print("\r  step {:6d} of {}  t {:.4g}  {:2d} sub-iterations, drop {:.1e}{}   ", dual_time_->step(),
+               c_.time.steps, dual_time_->time(), subiterations, drop, f);
+    std::fflush(stdout);
+  }
+
+  // Collective: what every loop ends with.
+  void close_loop() {
     if (opt_.progress && root_) fmt::print("\n");
     s_.wall_seconds = comm_.max(elapsed());
     s_.turbulence_start_ended = coupling_->start_state().ended_at;
@@ -564,9 +649,12 @@ class SteadyRun {
   std::unique_ptr<TurbulenceCoupling> coupling_;  // owns the model; may hook into mg_
   TurbulenceModel* turb_ = nullptr;               // its model (none: laminar)
 
+  std::vector<std::string> groups_;      // the wall groups forces are taken on
   std::vector<std::string> turb_names_;  // the turbulence model's variables
   Monitors monitors_{0};
   std::unique_ptr<HistoryWriter> history_;
+  std::unique_ptr<DualTime> dual_time_;      // dual-time runs only
+  std::unique_ptr<StepsWriter> steps_;       // the root's steps.csv (dual-time runs)
   std::map<std::string, ForceCoefficients> forces_;
   std::map<std::string, std::vector<WallFace>> faces_;  // reused every iteration
   RunSummary s_;

@@ -18,7 +18,8 @@ struct RunOptions {
 };
 
 // Stalled: the residuals stopped falling (solver.stall_window, app/stall_detector.hpp).
-enum class RunStatus { Converged, MaxIterations, Stalled, Diverged };
+// Completed: a dual-time run that took all its physical steps.
+enum class RunStatus { Converged, MaxIterations, Stalled, Diverged, Completed };
 const char* to_string(RunStatus s);
 
 struct RunSummary {

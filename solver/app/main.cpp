@@ -195,7 +195,7 @@ int main(int argc, char** argv) {
     if (max_iterations >= 0) opt.max_iterations = max_iterations;
     opt.progress = isatty(STDOUT_FILENO) && comm.is_root();
     const RunSummary s = run_case(load_case(case_path, overrides), opt);
-    return s.status == RunStatus::Diverged ? 3 : (s.status == RunStatus::Converged ? 0 : 1);
+    return s.status == RunStatus::Diverged ? 3 : (s.status == RunStatus::Converged || s.status == RunStatus::Completed ? 0 : 1);
   } catch (const Error& e) {
     fmt::print(stderr, "narwhal: error{}: {}\n", comm.size() > 1 ? fmt::format(" (rank {})", comm.rank()) : "",
                e.what());

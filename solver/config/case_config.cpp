@@ -206,6 +206,37 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
                            Range::between(0, 16));
 }
 
+// [time] (TimeConfig). Read after [turbulence] and [flow]: what dual time does not carry
+// yet is refused here, naming the key.
+void read_time(const ConfigReader& r, CaseConfig& c) {
+  auto& t = c.time;
+  if (!r.has("time")) return;
+  const std::string scheme = r.string("time.scheme", "the physical-time scheme: bdf1 or bdf2");
+  if (scheme == "bdf1")
+    t.scheme = TimeConfig::Scheme::Bdf1;
+  else if (scheme == "bdf2")
+    t.scheme = TimeConfig::Scheme::Bdf2;
+  else
+    r.error("time.scheme", "expected \"bdf1\" or \"bdf2\", got '" + scheme + "'");
+  t.step = r.number("time.step", "the physical time step in units of L / U", Range::positive());
+  t.steps = r.integer("time.steps", "the number of physical time steps", Range::between(1, 1e9));
+  t.pseudo_cfl = r.number_or("time.pseudo_cfl", t.pseudo_cfl,
+                             "the CFL number of the pseudo-time term inside a step (omit: none)", Range::positive());
+  t.subiteration_drop = r.number_or("time.subiteration_drop", t.subiteration_drop,
+                                    "the residual drop that ends a step's sub-iterations", Range::open(0, 1));
+  t.min_subiterations = r.integer_or("time.min_subiterations", t.min_subiterations,
+                                     "the fewest sub-iterations per step", Range::between(1, 1e6));
+  t.max_subiterations = r.integer_or("time.max_subiterations", t.max_subiterations,
+                                     "the most sub-iterations per step", Range::between(t.min_subiterations, 1e6));
+  // The transport models' equations have no physical-time term yet: their steady
+  // relaxation inside each step would not be time-accurate.
+  if (c.turbulence.model != "laminar" && c.turbulence.model != "baldwin-lomax")
+    r.error("time.scheme", "dual time stepping runs laminar or with Baldwin-Lomax so far; turbulence.model is '" +
+                               c.turbulence.model + "'");
+  if (c.bulk_velocity > 0.0)
+    r.error("time.scheme", "a flow-rate-controlled body force (flow.bulk_velocity) is for steady runs");
+}
+
 }  // namespace
 
 CaseConfig parse_case(const std::string& text, const std::string& display_name, const std::string& base_dir,
@@ -378,6 +409,8 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   t.nonlinear.c3 = r.number_or("turbulence.nonlinear_c3", t.nonlinear.c3, "C3 of the quadratic stress (§8.5)");
   if (t.model == "nonlinear-k-epsilon" && c.flow.viscous != ViscousForm::Full)
     r.error("flow.viscous", "the non-linear k-epsilon needs the full viscous stress (\"full\", NUMERICS §4.3)");
+
+  read_time(r, c);
 
   auto& o = c.output;
   o.restart_interval = r.integer_or("output.restart_interval", o.restart_interval,

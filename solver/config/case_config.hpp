@@ -1,6 +1,7 @@
 #pragma once
 // The case file (TOML) as typed option structs, one per module, and the grid it
 // describes. Every key is documented in README.md ("Case file").
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -68,6 +69,24 @@ struct SolverConfig {
   bool invariant_shortcut = true;  // skip the cancelling faces of one-cell invariant layers (physics/invariant_direction.hpp)
 };
 
+// [time]: physical time by dual time stepping (NUMERICS §6.1, §6.7); without the table a
+// run is steady. Each physical step sub-iterates in pseudo time (Newton-SGS or FAS
+// cycles) until |R*| / |R*_0| of the step falls below subiteration_drop, within
+// [min_subiterations, max_subiterations].
+struct TimeConfig {
+  enum class Scheme { Steady, Bdf1, Bdf2 };
+  Scheme scheme = Scheme::Steady;
+  Real step = 0.0;  // dt in units of L / U
+  int steps = 0;    // physical steps to take
+  // CFL of the local pseudo-time term inside a step (§6.6); infinite: none, the physical
+  // time term alone makes the diagonal (§6.2's default for unsteady runs).
+  Real pseudo_cfl = std::numeric_limits<Real>::infinity();
+  Real subiteration_drop = 1e-2;
+  int min_subiterations = 1;
+  int max_subiterations = 10;
+  bool unsteady() const { return scheme != Scheme::Steady; }
+};
+
 struct OutputConfig {
   int restart_interval = 100;
   Real reference_area = 1.0;
@@ -86,6 +105,7 @@ struct CaseConfig {
   std::map<std::string, PatchBc> bcs;
   std::vector<PeriodicConfig> periodic;
   SolverConfig solver;
+  TimeConfig time;
   OutputConfig output;
   TurbulenceSettings turbulence;
   Vec3 body_force = Vec3::Zero();  // constant momentum source per unit volume (drives periodic ducts)

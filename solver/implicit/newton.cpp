@@ -158,6 +158,9 @@ std::string NewtonSolver::describe_largest_residual(int equation) const {
 IterationNorms NewtonSolver::evaluate_residual() {
   fill_ghosts(g_, f_, fp_);
   compute_residual(g_, f_, fp_, R_);
+  if (time_)
+    for (std::size_t ib = 0; ib < R_.size(); ++ib)
+      if (g_.owns(ib)) time_->add_to_residual(ib, g_.blocks[ib], f_.Q[ib], R_[ib]);
   if (forcing_)
     for (std::size_t ib = 0; ib < R_.size(); ++ib) {
       if (!g_.owns(ib)) continue;
@@ -246,6 +249,7 @@ void NewtonSolver::assemble_block(int ib, Real cfl) {
         }
         if (fp_.viscous != ViscousForm::Inviscid) lambda += 2.0 * nu(c) * s2 / b.vol(c);
         if (std::isfinite(cfl)) D.diagonal().array() += lambda / cfl;  // V/dtau = Lambda/CFL
+        if (time_) time_->add_to_diagonal(b, c, D);
         for (const auto& source : fp_.sources) source->add_to_diagonal(b, c, Q(c), D);
         Dinv_[ib](c) = D.inverse();
       }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "implicit/physical_time.hpp"
 #include "mesh/block.hpp"
 #include "physics/flow.hpp"
 
@@ -65,6 +66,10 @@ class NewtonSolver {
   // FAS forcing f (§7.2): the smoother then drives R(Q) - f to zero. nullptr: none.
   void set_forcing(const std::vector<GhostArray<State>>* f) { forcing_ = f; }
 
+  // Dual time stepping (§6.1): the physical-time term joins the residual and the
+  // diagonal blocks (R* instead of R). nullptr: a steady problem.
+  void set_physical_time(const PhysicalTimeTerm* t) { time_ = t; }
+
   // Residual of the current state (fills ghosts), without updating.
   IterationNorms evaluate_residual();
 
@@ -94,6 +99,7 @@ class NewtonSolver {
   NewtonSettings s_;
   Real ref_norm_ = -1.0;
   const std::vector<GhostArray<State>>* forcing_ = nullptr;
+  const PhysicalTimeTerm* time_ = nullptr;
   bool assembled_ = false;
   bool stale_cfl_ok_ = false;
   Real assembled_cfl_ = 0.0;

@@ -77,6 +77,33 @@ void HistoryWriter::write(int iteration, Real wall_seconds, const IterationNorms
     fail("cannot write '{}': {}", path_, std::strerror(errno));
 }
 
+StepsWriter::StepsWriter(const std::string& path, const std::vector<std::string>& groups)
+    : path_(path), groups_(groups) {
+  std::string header = "step,time,subiterations,drop";
+  for (const auto& g : groups)
+    for (const char* c : {"cfx", "cfy", "cfz", "cmx", "cmy", "cmz"}) header += fmt::format(",{}_{}", g, c);
+  write_file_atomically(path, header + "\n");
+  file_ = std::fopen(path.c_str(), "a");
+  if (!file_) fail("cannot write '{}': {}", path, std::strerror(errno));
+}
+
+StepsWriter::~StepsWriter() {
+  if (file_) std::fclose(file_);
+}
+
+void StepsWriter::write(int step, Real time, int subiterations, Real drop,
+                        const std::map<std::string, ForceCoefficients>& forces) {
+  std::string row = fmt::format("{},{:.17g},{},{:.6e}", step, time, subiterations, drop);
+  for (const auto& g : groups_) {
+    const auto& c = forces.at(g);
+    row += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", c.force[0], c.force[1], c.force[2],
+                       c.moment[0], c.moment[1], c.moment[2]);
+  }
+  row += "\n";
+  if (std::fwrite(row.data(), 1, row.size(), file_) != row.size() || std::fflush(file_) != 0)
+    fail("cannot write '{}': {}", path_, std::strerror(errno));
+}
+
 void write_surface_csv(const std::string& path, const std::vector<WallFace>& faces) {
   std::string out = fmt::format(
       "# narwhal {} ({}); one row per wall face; n points into the fluid; cp = 2p, cf = 2 tau_w; "

@@ -35,6 +35,23 @@ class HistoryWriter {
   std::size_t turbulence_ = 0;
 };
 
+// steps.csv of a dual-time run: one row per physical step (step, time t^{n+1}, the
+// sub-iterations it took, the drop |R*| / |R*_0| they reached, each wall group's force
+// and moment coefficients at the step's end).
+class StepsWriter {
+ public:
+  StepsWriter(const std::string& path, const std::vector<std::string>& groups);
+  ~StepsWriter();
+  StepsWriter(const StepsWriter&) = delete;
+  StepsWriter& operator=(const StepsWriter&) = delete;
+  void write(int step, Real time, int subiterations, Real drop, const std::map<std::string, ForceCoefficients>& forces);
+
+ private:
+  std::string path_;
+  std::FILE* file_ = nullptr;
+  std::vector<std::string> groups_;
+};
+
 // The first line of history.csv for these wall groups and turbulence variables.
 std::string history_header(const std::vector<std::string>& groups, const std::vector<std::string>& turbulence);
 

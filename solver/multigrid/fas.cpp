@@ -182,10 +182,32 @@ void Multigrid::visit(int l, Real cfl, const IterationNorms* fresh, bool frozen)
   smooth(l, ms_.post_smooth, cfl, nullptr, ms_.reuse_jacobian);
 }
 
+void Multigrid::use_physical_time(const PhysicalTimeTerm* finest) {
+  finest_time_ = finest;
+  levels_[0].solver->set_physical_time(finest);
+  for (std::size_t l = 1; l < levels_.size(); ++l) {
+    levels_[l].time = finest ? std::make_unique<PhysicalTimeTerm>(*levels_[l].grid, false) : nullptr;
+    levels_[l].solver->set_physical_time(levels_[l].time.get());
+  }
+}
+
 IterationNorms Multigrid::cycle() {
   NewtonSolver& top = *levels_[0].solver;
   IterationNorms n = top.evaluate_residual();
   n.cfl = top.ser_cfl(n.total);
+  return run_cycle(n);
+}
+
+IterationNorms Multigrid::cycle_with_cfl(Real cfl) {
+  IterationNorms n = levels_[0].solver->evaluate_residual();
+  n.cfl = cfl;
+  return run_cycle(n);
+}
+
+IterationNorms Multigrid::run_cycle(IterationNorms n) {
+  if (finest_time_)
+    for (std::size_t l = 1; l < levels_.size(); ++l)
+      levels_[l].time->set_step(finest_time_->dt(), finest_time_->coefficients());
   // Jacobian freezing: between reassemblies every level keeps its block matrices.
   const bool frozen = ms_.jacobian_interval > 1 && cycles_ % ms_.jacobian_interval != 0;
   for (auto& l : levels_) l.solver->allow_stale_cfl(frozen);

@@ -31,8 +31,15 @@ class Multigrid {
   // `fine` and `field` are the finest level (owned by the caller).
   Multigrid(Grid& fine, FlowField& field, const FlowParams& fp, const NewtonSettings& ns, MultigridSettings ms);
 
-  // One cycle; returns the norms of the finest-level residual at its start.
+  // One cycle; returns the norms of the finest-level residual at its start. The CFL
+  // follows switched evolution relaxation on the finest level, or is given (dual time).
   IterationNorms cycle();
+  IterationNorms cycle_with_cfl(Real cfl);
+
+  // Dual time stepping (§7.3): the finest level solves R* with `finest` (which holds
+  // the old time levels); each coarse level gets a term of its own, without them (they
+  // cancel in the forcing), whose step and coefficients follow the finest's every cycle.
+  void use_physical_time(const PhysicalTimeTerm* finest);
 
   int levels() const { return static_cast<int>(levels_.size()); }
   const std::string& level_note() const { return note_; }
@@ -52,7 +59,10 @@ class Multigrid {
     FlowParams fp;
     std::unique_ptr<NewtonSolver> solver;
     std::vector<GhostArray<State>> forcing, q0, correction;
+    std::unique_ptr<PhysicalTimeTerm> time;  // coarse levels in a dual-time run
   };
+  IterationNorms run_cycle(IterationNorms n);
+  const PhysicalTimeTerm* finest_time_ = nullptr;
   void visit(int l, Real cfl, const IterationNorms* fresh, bool frozen);
   void smooth(int l, int iterations, Real cfl, const IterationNorms* fresh = nullptr, bool reuse = false);
   bool frozen_ = false;

@@ -1,0 +1,41 @@
+#include "app/dual_time.hpp"
+
+#include <utility>
+
+namespace narwhal {
+
+DualTime::DualTime(const Grid& g, const TimeConfig& tc) : tc_(tc), term_(g, true) {
+  const std::size_t nb = g.blocks.size();
+  q_n_.resize(nb);
+  q_nm1_.resize(nb);
+  vol_n_.resize(nb);
+  vol_nm1_.resize(nb);
+  for (std::size_t ib = 0; ib < nb; ++ib) {
+    if (!g.owns(ib)) continue;
+    const Block& b = g.blocks[ib];
+    for (auto* q : {&q_n_[ib], &q_nm1_[ib]}) q->resize(b.ni, b.nj, b.nk, 0, State::Zero());
+    for (auto* v : {&vol_n_[ib], &vol_nm1_[ib]}) v->resize(b.ni, b.nj, b.nk, 0, 0.0);
+  }
+}
+
+void DualTime::begin_step(const Grid& g, const FlowField& f) {
+  std::swap(q_n_, q_nm1_);
+  std::swap(vol_n_, vol_nm1_);
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
+    const Block& b = g.blocks[ib];
+    // V^n: the volumes of the grid the state was reached on (before this step moves it).
+    for_each_cell(b, [&](int i, int j, int k) {
+      q_n_[ib](i, j, k) = f.Q[ib](i, j, k);
+      vol_n_[ib](i, j, k) = b.vol(i, j, k);
+    });
+  }
+  const bool second_order = tc_.scheme == TimeConfig::Scheme::Bdf2 && step_ > 0;
+  term_.set_step(tc_.step, second_order ? BdfCoefficients::bdf2(tc_.step / previous_step_) : BdfCoefficients::bdf1());
+  term_.set_old_levels(g, vol_n_, q_n_, vol_nm1_, q_nm1_);
+  previous_step_ = tc_.step;
+  ++step_;
+  time_ += tc_.step;
+}
+
+}  // namespace narwhal

@@ -1,0 +1,40 @@
+#include "implicit/physical_time.hpp"
+
+namespace narwhal {
+
+PhysicalTimeTerm::PhysicalTimeTerm(const Grid& g, bool holds_old_levels) : holds_old_levels_(holds_old_levels) {
+  if (!holds_old_levels) return;
+  old_.resize(g.blocks.size());
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
+    const Block& b = g.blocks[ib];
+    old_[ib].resize(b.ni, b.nj, b.nk, 0, Vec3::Zero());
+  }
+}
+
+void PhysicalTimeTerm::set_old_levels(const Grid& g, const std::vector<GhostArray<Real>>& vol_n,
+                                      const std::vector<GhostArray<State>>& q_n,
+                                      const std::vector<GhostArray<Real>>& vol_nm1,
+                                      const std::vector<GhostArray<State>>& q_nm1) {
+  if (!holds_old_levels_) return;
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
+    for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
+      Vec3 b = c_.c1 * vol_n[ib](i, j, k) * q_n[ib](i, j, k).tail<3>();
+      if (c_.c2 != 0.0) b += c_.c2 * vol_nm1[ib](i, j, k) * q_nm1[ib](i, j, k).tail<3>();
+      old_[ib](i, j, k) = b;
+    });
+  }
+}
+
+void PhysicalTimeTerm::add_to_residual(std::size_t ib, const Block& b, const GhostArray<State>& Q,
+                                       GhostArray<State>& R) const {
+  const Real inv_dt = 1.0 / dt_;
+  for_each_cell(b, [&](int i, int j, int k) {
+    Vec3 m = c_.c0 * b.vol(i, j, k) * Q(i, j, k).tail<3>();
+    if (holds_old_levels_) m += old_[ib](i, j, k);
+    R(i, j, k).tail<3>() += inv_dt * m;
+  });
+}
+
+}  // namespace narwhal
