@@ -44,6 +44,8 @@ class Multigrid {
   int levels() const { return static_cast<int>(levels_.size()); }
   const std::string& level_note() const { return note_; }
   NewtonSolver& finest() { return *levels_[0].solver; }
+  // Level l's grid (0: the finest, the caller's): a moving grid moves every level's nodes.
+  Grid& grid(int l) { return *levels_[static_cast<std::size_t>(l)].grid; }
 
   // Called after every smoothing iteration on the finest level, with its CFL: a
   // loosely coupled turbulence model updated inside the cycle, so that the mean

@@ -1,0 +1,81 @@
+#include "motion/grid_motion.hpp"
+
+namespace narwhal {
+
+Real hexahedron_volume(const std::array<Vec3, 8>& n) {
+  auto x = [&](int p, int q, int r) -> const Vec3& { return n[p + 2 * q + 4 * r]; };
+  // The faces as compute_metrics orients them (§2.2), at p, q or r = 0 and 1.
+  auto term = [&](int d, int s) {
+    Vec3 a, b, c, e;
+    if (d == 0) {
+      a = x(s, 0, 0), b = x(s, 1, 0), c = x(s, 1, 1), e = x(s, 0, 1);
+    } else if (d == 1) {
+      a = x(0, s, 0), b = x(0, s, 1), c = x(1, s, 1), e = x(1, s, 0);
+    } else {
+      a = x(0, 0, s), b = x(1, 0, s), c = x(1, 1, s), e = x(0, 1, s);
+    }
+    const Vec3 S = 0.5 * (c - a).cross(e - b);
+    return (0.25 * (a + b + c + e)).dot(S);
+  };
+  Real v = 0.0;
+  for (int d = 0; d < 3; ++d) v += term(d, 1) - term(d, 0);
+  return v / 3.0;
+}
+
+Real swept_volume(const GhostArray<Vec3>& from, const GhostArray<Vec3>& to, int d, const Index3& f) {
+  // The sweep takes the place of direction d (old position at 0, new at 1), the face's
+  // own node offsets the other two: the hexahedron is right-handed when the face moves
+  // towards +S.
+  std::array<Vec3, 8> n;
+  for (int r = 0; r < 2; ++r)
+    for (int q = 0; q < 2; ++q)
+      for (int p = 0; p < 2; ++p) {
+        const int o[3] = {p, q, r};
+        Index3 node = f;
+        for (int t = 0; t < 3; ++t)
+          if (t != d) node[t] += o[t];
+        n[p + 2 * q + 4 * r] = (o[d] ? to : from)(node);
+      }
+  return hexahedron_volume(n);
+}
+
+MovingGrid::MovingGrid(Grid& g, const Vec3& pivot) : g_(g), pivot_(pivot) {
+  x0_.reserve(g.blocks.size());
+  swept_.resize(g.blocks.size());
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    const Block& b = g.blocks[ib];
+    x0_.push_back(b.x);
+    for (int d = 0; d < 3; ++d) swept_[ib][d] = b.kt[d];  // the face layout, ghosts included
+  }
+}
+
+void MovingGrid::move_to(const RigidPose& pose, Real dt, const BdfCoefficients& c) {
+  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    Block& b = g_.blocks[ib];
+    const GhostArray<Vec3> old = b.x;
+    auto& x0 = x0_[ib].raw();
+    auto& x = b.x.raw();
+    for (std::size_t n = 0; n < x.size(); ++n) x[n] = pose.apply(x0[n], pivot_);
+    compute_metrics(b);
+    for (int d = 0; d < 3; ++d) {
+      auto& kt = b.kt[d];
+      auto& swept = swept_[ib][d];
+      // Every face whose four nodes exist (the range compute_metrics fills).
+      for (int k = -kGhost; k < kt.nk() + kGhost; ++k)
+        for (int j = -kGhost; j < kt.nj() + kGhost; ++j)
+          for (int i = -kGhost; i < kt.ni() + kGhost; ++i) {
+            const Index3 f{i, j, k};
+            bool inside = f[d] <= b.n(d) + kGhost;
+            for (int t = 0; t < 3; ++t)
+              if (t != d && f[t] + 1 > b.n(t) + kGhost) inside = false;
+            if (!inside) continue;
+            const Real dv = swept_volume(old, b.x, d, f);
+            kt(f) = -(c.c0 * dv - (moved_ ? c.c2 * swept(f) : 0.0)) / dt;
+            swept(f) = dv;
+          }
+    }
+  }
+  moved_ = true;
+}
+
+}  // namespace narwhal

@@ -1,0 +1,56 @@
+#pragma once
+// Rigid motion of a whole grid (NUMERICS §2.4, §6.8 step 2). A pose maps the grid's
+// nodes as they were built (reference positions x0, ghost nodes included) to
+//   x = R (x0 - pivot) + pivot + d,
+// and moving to the pose of t^{n+1} recomputes the metrics there (§2.2, §2.3) and the
+// face speeds from the volumes the faces sweep (§2.4):
+//   k_t = -(c0 dV^{n+1} - c2 dV^n) / dt_n,
+// dV^{n+1} the signed volume face f sweeps from t^n to t^{n+1} (positive towards +S_f),
+// dV^n the previous step's. With those, the discrete GCL
+//   (c0 V^{n+1} + c1 V^n + c2 V^{n-1}) / dt_n = -sum_f s_cf k_t,f
+// holds to round-off in every cell, under rotation too (where -v_g . S would not),
+// and a uniform stream stays uniform (§1.5). Every multigrid level moves its own nodes
+// and so keeps its own GCL (§7.1). Ghost nodes move with the grid: a rigid motion
+// commutes with their linear extrapolation and with translational periodic copies.
+#include <array>
+#include <vector>
+
+#include "core/types.hpp"
+#include "implicit/physical_time.hpp"
+#include "mesh/block.hpp"
+
+namespace narwhal {
+
+struct RigidPose {
+  Mat3 rotation = Mat3::Identity();
+  Vec3 displacement = Vec3::Zero();  // of the pivot
+  Vec3 apply(const Vec3& x0, const Vec3& pivot) const { return rotation * (x0 - pivot) + pivot + displacement; }
+};
+
+// The signed volume of the trilinear hexahedron with nodes n[p + 2 q + 4 r] at the
+// corners (p, q, r) of the unit cube, by §2.3's formula; positive when right-handed.
+Real hexahedron_volume(const std::array<Vec3, 8>& n);
+
+// The volume face (d, f) of a block sweeps between node positions `from` and `to`
+// (§2.4), positive when it moves towards its area vector's side.
+Real swept_volume(const GhostArray<Vec3>& from, const GhostArray<Vec3>& to, int d, const Index3& f);
+
+class MovingGrid {
+ public:
+  // The grid's present nodes become its reference (pose: identity).
+  MovingGrid(Grid& g, const Vec3& pivot);
+
+  // Nodes to `pose`, metrics there, face speeds for a step dt with coefficients c.
+  void move_to(const RigidPose& pose, Real dt, const BdfCoefficients& c);
+
+  const Vec3& pivot() const { return pivot_; }
+
+ private:
+  Grid& g_;
+  Vec3 pivot_;
+  std::vector<GhostArray<Vec3>> x0_;                   // reference nodes per block
+  std::vector<std::array<GhostArray<Real>, 3>> swept_;  // dV of the last step per face
+  bool moved_ = false;
+};
+
+}  // namespace narwhal
