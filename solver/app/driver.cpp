@@ -21,6 +21,8 @@
 #include "io/output_directory.hpp"
 #include "io/text_file.hpp"
 #include "motion/grid_axes.hpp"
+#include "motion/grid_motion.hpp"
+#include "motion/prescribed_motion.hpp"
 #include "io/restart.hpp"
 #include "parallel/communicator.hpp"
 #include "parallel/distribution.hpp"
@@ -381,9 +383,11 @@ class SteadyRun {
     else
       single_->set_physical_time(&dual_time_->term());
     if (root_) steps_ = std::make_unique<StepsWriter>(file("steps.csv"), groups_);
+    prepare_motion();
     try {
       while (s_.status == RunStatus::MaxIterations && dual_time_->step() < c_.time.steps) {
         dual_time_->begin_step(g_, field_);
+        move_grids();
         const auto [subiterations, drop] = sub_iterate();
         if (s_.status == RunStatus::Diverged) break;
         if (steps_) steps_->write(dual_time_->step(), dual_time_->time(), subiterations, drop, forces_);
@@ -395,6 +399,29 @@ class SteadyRun {
       s_.message = fmt::format("step {}, iteration {}: {}", dual_time_->step(), s_.iterations + 1, e.what());
     }
     close_loop();
+  }
+
+  // Every grid the run keeps moves together: each multigrid level (its own GCL, §7.1)
+  // and the case's own blocks when the run computes on pieces of them (the files' layout).
+  void prepare_motion() {
+    if (!c_.motion) return;
+    motion_ = std::make_unique<PrescribedMotion>(*c_.motion);
+    auto add = [&](Grid& g) { moving_.push_back(std::make_unique<MovingGrid>(g, motion_->pivot())); };
+    if (mg_)
+      for (int l = 0; l < mg_->levels(); ++l) add(mg_->grid(l));
+    else
+      add(g_);
+    if (pieces_) add(whole_);
+    for (auto& m : moving_) m->place_at(motion_->pose(0.0));
+  }
+
+  // §6.8 steps 1-2: the grids to the pose of t^{n+1}, their metrics and face speeds.
+  void move_grids() {
+    if (!motion_) return;
+    const Real t = dual_time_->time();
+    for (auto& m : moving_)
+      m->move_to(motion_->pose(t), motion_->velocity(t), motion_->angular_velocity(t), dual_time_->step_size(),
+                 dual_time_->term().coefficients());
   }
 
   // One physical step's pseudo-time iterations (§6.7): until |R*| / |R*_0| falls below
@@ -654,6 +681,8 @@ class SteadyRun {
   Monitors monitors_{0};
   std::unique_ptr<HistoryWriter> history_;
   std::unique_ptr<DualTime> dual_time_;      // dual-time runs only
+  std::unique_ptr<PrescribedMotion> motion_;  // a moving grid's motion
+  std::vector<std::unique_ptr<MovingGrid>> moving_;  // every grid that moves with it
   std::unique_ptr<StepsWriter> steps_;       // the root's steps.csv (dual-time runs)
   std::map<std::string, ForceCoefficients> forces_;
   std::map<std::string, std::vector<WallFace>> faces_;  // reused every iteration

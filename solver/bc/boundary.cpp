@@ -54,11 +54,19 @@ State boundary_state(const Patch& p, const State& q1, const FaceGeom& o, const V
   }
 }
 
-State ghost_value(const Patch& p, const State& qm, const State& qb, const Vec3& n) {
+Vec3 wall_velocity(const Block& b, const Patch& p, const Index3& f) {
+  if (!b.motion.moving) return p.velocity;
+  const int d = side_dir(p.side);
+  const Vec3& S = b.S[d](f);
+  const Vec3 u = p.velocity + b.motion.at(b.xf[d](f));
+  return u - ((S.dot(u) + b.kt[d](f)) / S.squaredNorm()) * S;
+}
+
+State ghost_value(const Patch& p, const State& qm, const State& qb, const Vec3& n, const Vec3& u_wall) {
   State g = qm;
   switch (p.type) {
     case BcType::Wall:  // §5.1: u_g = 2 u_w - u_m, p_g = p_m
-      g.tail<3>() = 2.0 * p.velocity - qm.tail<3>();
+      g.tail<3>() = 2.0 * u_wall - qm.tail<3>();
       break;
     case BcType::Symmetry:  // §5.4: mirror the velocity, even pressure
       g.tail<3>() = qm.tail<3>() - 2.0 * n.dot(qm.tail<3>()) * n;
@@ -70,14 +78,14 @@ State ghost_value(const Patch& p, const State& qm, const State& qb, const Vec3& 
   return g;
 }
 
-State wall_flux(const Patch& p, const State& q1, const FaceGeom& face, bool high_side, Real d_wall, Real nu_wall,
+State wall_flux(const Vec3& u_wall, const State& q1, const FaceGeom& face, bool high_side, Real d_wall, Real nu_wall,
                 Real beta) {
   // §5.1 with §4.5: n points into the fluid; S.u_w := -k_t keeps theta_w = 0 (GCL).
   const Real Snorm = face.S.norm();
   const Real Sn = high_side ? -Snorm : Snorm;  // S . n_into_fluid
   State F;
   F[0] = -beta * face.kt;
-  F.tail<3>() = q1[0] * face.S - (nu_wall * Sn / d_wall) * (q1.tail<3>() - p.velocity);
+  F.tail<3>() = q1[0] * face.S - (nu_wall * Sn / d_wall) * (q1.tail<3>() - u_wall);
   return F;
 }
 
@@ -108,7 +116,8 @@ void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
       // Dirichlet (verification) ghosts take the exact solution at the ghost
       // centre: the extrapolated 2 Q_b - Q_m would make the boundary viscous
       // gradient one-sided and cost accuracy in the boundary cells.
-      Q(gc) = p.type == BcType::Dirichlet ? fp.exact(b.xc(gc)) : ghost_value(p, Q(cm), qb, n);
+      const Vec3 u_wall = p.type == BcType::Wall ? wall_velocity(b, p, boundary_face_index(b, p.side, c)) : Vec3::Zero();
+      Q(gc) = p.type == BcType::Dirichlet ? fp.exact(b.xc(gc)) : ghost_value(p, Q(cm), qb, n, u_wall);
       nu(gc) = nu(cm);
     });
   };

@@ -28,11 +28,19 @@ Index3 boundary_face_index(const Block& b, int side, Index3 c);
 State boundary_state(const Patch& p, const State& q1, const FaceGeom& outward, const Vec3& xface,
                      const FlowParams& fp);
 
-// Ghost values of depth m for a non-interface patch, from interior Q_m (and Q_b / n).
-State ghost_value(const Patch& p, const State& qm, const State& qb, const Vec3& unit_normal);
+// §5.1: the velocity of a wall at its boundary face f (direction of the patch's side):
+// the patch's own (a sliding lid), plus on a moving grid the grid's rigid velocity at
+// the face centroid with its normal component replaced by S . u_w = -k_t, so that the
+// relative volume flux through the wall is exactly zero (GCL).
+Vec3 wall_velocity(const Block& b, const Patch& p, const Index3& f);
 
-// §5.1 wall flux in the block's face orientation (S as stored).
-State wall_flux(const Patch& p, const State& q1, const FaceGeom& face, bool high_side, Real d_wall, Real nu_wall,
+// Ghost values of depth m for a non-interface patch, from interior Q_m (and Q_b / n);
+// u_wall: a wall's velocity (wall_velocity).
+State ghost_value(const Patch& p, const State& qm, const State& qb, const Vec3& unit_normal,
+                  const Vec3& u_wall = Vec3::Zero());
+
+// §5.1 wall flux in the block's face orientation (S as stored), wall velocity u_wall.
+State wall_flux(const Vec3& u_wall, const State& q1, const FaceGeom& face, bool high_side, Real d_wall, Real nu_wall,
                 Real beta);
 
 // Fill both ghost layers of Q (and nu) on every block: interfaces copy donors,

@@ -237,6 +237,32 @@ void read_time(const ConfigReader& r, CaseConfig& c) {
     r.error("time.scheme", "a flow-rate-controlled body force (flow.bulk_velocity) is for steady runs");
 }
 
+// [motion] (motion/prescribed_motion.hpp). After read_time: a moving grid needs physical time.
+void read_motion(const ConfigReader& r, CaseConfig& c) {
+  if (!r.has("motion")) return;
+  const std::string type = r.string("motion.type", "how the grid moves: prescribed");
+  if (type != "prescribed") r.error("motion.type", "expected \"prescribed\", got '" + type + "'");
+  if (!c.time.unsteady()) r.error("motion.type", "a moving grid needs physical time: add a [time] table");
+  PrescribedMotionSpec m;
+  m.pivot = r.vec3_or("motion.pivot", m.pivot, "the point rotations are about, in grid axes");
+  m.velocity = r.vec3_or("motion.velocity", m.velocity, "the constant translation velocity");
+  const std::size_t n = r.array_size("motion.oscillation");
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string pre = fmt::format("motion.oscillation[{}].", i);
+    Oscillation o;
+    const std::string dof = r.string(pre + "dof", "the degree of freedom: x, y, z, roll, pitch or yaw");
+    o.dof = parse_dof(dof);
+    if (o.dof < 0) r.error(pre + "dof", "expected x, y, z, roll, pitch or yaw, got '" + dof + "'");
+    o.amplitude = r.number(pre + "amplitude", o.dof < 3 ? "the amplitude (length)" : "the amplitude in degrees");
+    if (o.dof >= 3) o.amplitude *= M_PI / 180.0;
+    o.angular_frequency = r.number(pre + "angular_frequency", "the angular frequency (rad per unit time)",
+                                   Range::at_least(0.0));
+    o.phase = r.number_or(pre + "phase", 0.0, "the phase in degrees") * M_PI / 180.0;
+    m.oscillations.push_back(o);
+  }
+  c.motion = m;
+}
+
 }  // namespace
 
 CaseConfig parse_case(const std::string& text, const std::string& display_name, const std::string& base_dir,
@@ -411,6 +437,7 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
     r.error("flow.viscous", "the non-linear k-epsilon needs the full viscous stress (\"full\", NUMERICS §4.3)");
 
   read_time(r, c);
+  read_motion(r, c);
 
   auto& o = c.output;
   o.restart_interval = r.integer_or("output.restart_interval", o.restart_interval,

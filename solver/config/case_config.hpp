@@ -12,6 +12,7 @@
 #include "mesh/body_of_revolution.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/setup.hpp"
+#include "motion/prescribed_motion.hpp"
 #include "multigrid/fas.hpp"
 #include "physics/flow.hpp"
 #include "physics/manufactured.hpp"
@@ -106,6 +107,7 @@ struct CaseConfig {
   std::vector<PeriodicConfig> periodic;
   SolverConfig solver;
   TimeConfig time;
+  std::optional<PrescribedMotionSpec> motion;  // [motion]: the grid moves (dual-time runs)
   OutputConfig output;
   TurbulenceSettings turbulence;
   Vec3 body_force = Vec3::Zero();  // constant momentum source per unit volume (drives periodic ducts)

@@ -24,7 +24,7 @@ struct BoundaryFaceFlux {
   const FlowParams& fp;
   bool high;
   FaceGeom face, outward;
-  Vec3 n, xface;
+  Vec3 n, xface, u_wall = Vec3::Zero();
   Real d_wall = 0.0, tl = 0.0;
   State ghost_exact = State::Zero();
 
@@ -37,14 +37,17 @@ struct BoundaryFaceFlux {
     outward = outward_face(b, p.side, c);
     n = outward.S.normalized();
     xface = b.xf[d](f);
-    if (p.type == BcType::Wall) d_wall = wall_distance(b, p.side, c);
+    if (p.type == BcType::Wall) {
+      d_wall = wall_distance(b, p.side, c);
+      u_wall = wall_velocity(b, p, f);
+    }
     if (fp.viscous != ViscousForm::Inviscid) tl = thin_layer_coefficient(b, nu, d, f);
     // Dirichlet ghosts do not depend on the interior (see fill_ghosts).
     if (p.type == BcType::Dirichlet) ghost_exact = fp.exact(b.xc(ghost_cell(b, p.side, c, 1)));
   }
 
   State operator()(const State& q1) const {
-    if (p.type == BcType::Wall) return wall_flux(p, q1, face, high, d_wall, 1.0 / fp.reynolds, fp.beta);
+    if (p.type == BcType::Wall) return wall_flux(u_wall, q1, face, high, d_wall, 1.0 / fp.reynolds, fp.beta);
     State qb = q1;
     if (is_characteristic_bc(p.type)) qb = boundary_state(p, q1, outward, xface, fp);
     const State qg = p.type == BcType::Dirichlet ? ghost_exact : ghost_value(p, q1, qb, n);

@@ -50,6 +50,16 @@ struct Patch {
   bool body_surface = false;
 };
 
+// The velocity field of a grid in rigid motion at the current time level (NUMERICS §5.1:
+// a wall moving with the grid has u_w = V + omega x (x_f - origin)). Fixed grids: none.
+struct RigidVelocity {
+  bool moving = false;
+  Vec3 translation = Vec3::Zero();  // of the origin
+  Vec3 angular = Vec3::Zero();
+  Vec3 origin = Vec3::Zero();
+  Vec3 at(const Vec3& x) const { return translation + angular.cross(x - origin); }
+};
+
 struct Block {
   std::string name;
   int ni = 0, nj = 0, nk = 0;  // cells
@@ -61,6 +71,7 @@ struct Block {
   GhostArray<Real> vol;                // cell volumes (§2.3)
   GhostArray<Vec3> xc;                 // cell centres: mean of the 8 corner nodes (§2.1)
   std::vector<Patch> patches;
+  RigidVelocity motion;  // set by a moving grid (motion/grid_motion.hpp)
   // Direction in which the block is a one-cell layer whose solution does not vary
   // (a planar slab between symmetry planes, or a layer periodic onto itself), or -1.
   // Set only by mark_invariant_directions (physics/invariant_direction.hpp); the

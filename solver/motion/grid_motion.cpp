@@ -49,9 +49,23 @@ MovingGrid::MovingGrid(Grid& g, const Vec3& pivot) : g_(g), pivot_(pivot) {
   }
 }
 
-void MovingGrid::move_to(const RigidPose& pose, Real dt, const BdfCoefficients& c) {
+void MovingGrid::place_at(const RigidPose& pose) {
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
     Block& b = g_.blocks[ib];
+    auto& x0 = x0_[ib].raw();
+    auto& x = b.x.raw();
+    for (std::size_t n = 0; n < x.size(); ++n) x[n] = pose.apply(x0[n], pivot_);
+    compute_metrics(b);
+  }
+  moved_ = false;
+}
+
+void MovingGrid::move_to(const RigidPose& pose, const Vec3& velocity, const Vec3& angular_velocity, Real dt,
+                         const BdfCoefficients& c) {
+  const RigidVelocity motion{true, velocity, angular_velocity, pivot_ + pose.displacement};
+  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    Block& b = g_.blocks[ib];
+    b.motion = motion;
     const GhostArray<Vec3> old = b.x;
     auto& x0 = x0_[ib].raw();
     auto& x = b.x.raw();

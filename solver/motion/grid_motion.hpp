@@ -40,8 +40,14 @@ class MovingGrid {
   // The grid's present nodes become its reference (pose: identity).
   MovingGrid(Grid& g, const Vec3& pivot);
 
-  // Nodes to `pose`, metrics there, face speeds for a step dt with coefficients c.
-  void move_to(const RigidPose& pose, Real dt, const BdfCoefficients& c);
+  // Nodes to `pose`, metrics there, face speeds for a step dt with coefficients c; the
+  // blocks' walls move with `velocity` (of the pivot) and `angular_velocity` (§5.1).
+  void move_to(const RigidPose& pose, const Vec3& velocity, const Vec3& angular_velocity, Real dt,
+               const BdfCoefficients& c);
+
+  // Nodes to the pose the motion starts from, metrics there; the first step's sweep
+  // starts here (no face speeds: nothing has moved yet).
+  void place_at(const RigidPose& pose);
 
   const Vec3& pivot() const { return pivot_; }
 

@@ -102,7 +102,8 @@ State boundary_face_flux(const Block& b, const Patch& p, const GhostArray<State>
   const Index3 f = boundary_face_index(b, p.side, c);
   const Index3 c1 = interior_cell(b, p.side, c, 1);
   if (p.type == BcType::Wall) {
-    return wall_flux(p, Q(c1), FaceGeom{b.S[d](f), b.kt[d](f)}, side_high(p.side), wall_distance(b, p.side, c),
+    return wall_flux(wall_velocity(b, p, f), Q(c1), FaceGeom{b.S[d](f), b.kt[d](f)}, side_high(p.side),
+                     wall_distance(b, p.side, c),
                      1.0 / fp.reynolds, fp.beta);
   }
   if (is_characteristic_bc(p.type)) {

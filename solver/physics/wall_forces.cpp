@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "bc/boundary.hpp"
 #include "mesh/ghost_sweep.hpp"
 #include "physics/residual.hpp"
 #include "parallel/reduction.hpp"
@@ -38,7 +39,7 @@ void wall_faces(const Grid& g, const FlowField& f, const FlowParams& fp,
           list.push_back(w);
           return;
         }
-        Vec3 du = q1.tail<3>() - p.velocity;
+        Vec3 du = q1.tail<3>() - wall_velocity(b, p, fidx);
         du -= w.n * w.n.dot(du);
         const Vec3 tau = du / (fp.reynolds * dw);  // §4.5
         w.cf = 2.0 * tau;

@@ -49,9 +49,10 @@ void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParam
       for_each_in(face_range(p), [&](Index3 c) {
         Vec3 n;
         const Real d1 = wall_distance(b, p.side, c, &n);
-        const Vec3 xw = b.xf[d](boundary_face_index(b, p.side, c));
+        const Index3 fw = boundary_face_index(b, p.side, c);
+        const Vec3 xw = b.xf[d](fw), uw = wall_velocity(b, p, fw);
         const Index3 c1 = interior_cell(b, p.side, c, 1);
-        const Vec3 ut1 = Q(c1).tail<3>() - p.velocity - n.dot(Q(c1).tail<3>() - p.velocity) * n;
+        const Vec3 ut1 = Q(c1).tail<3>() - uw - n.dot(Q(c1).tail<3>() - uw) * n;
         const Real utau = std::sqrt(nu * ut1.norm() / d1);
         // The line: cells at depth 1 .. n(d) from this wall.
         const int len = b.n(d);
@@ -68,7 +69,7 @@ void BaldwinLomax::update_viscosity(const Grid& g, FlowField& f, const FlowParam
           const Index3 cm = interior_cell(b, p.side, c, m + 1);
           y[m] = n.dot(b.xc(cm) - xw);
           om[m] = vorticity_magnitude(velocity_gradient(b, Q, cm));
-          udif = std::max(udif, (Q(cm).tail<3>() - p.velocity).norm());
+          udif = std::max(udif, (Q(cm).tail<3>() - uw).norm());
           const Real damp = 1.0 - std::exp(-fp.reynolds * utau * y[m] / aplus);
           F[m] = y[m] * om[m] * damp;
           if (!past_peak) {
