@@ -388,6 +388,7 @@ class SteadyRun {
       while (s_.status == RunStatus::MaxIterations && dual_time_->step() < c_.time.steps) {
         dual_time_->begin_step(g_, field_);
         move_grids();
+        for (auto& source : fp_.sources) source->at_time(dual_time_->time());
         const auto [subiterations, drop] = sub_iterate();
         if (s_.status == RunStatus::Diverged) break;
         if (steps_) steps_->write(dual_time_->step(), dual_time_->time(), subiterations, drop, forces_);

@@ -32,9 +32,13 @@ class VolumeSource {
   // The momentum per unit volume at x when the source is a function of position alone
   // (a planar grid is only planar if no source pushes across its plane); nullopt otherwise.
   virtual std::optional<Vec3> momentum_at(const Vec3&) const { return std::nullopt; }
+  // A dual-time run sets the time the sources are taken at, t^{n+1}, before each step's
+  // iterations; steady sources ignore it.
+  virtual void at_time(Real) {}
 };
 
-using VolumeSources = std::vector<std::shared_ptr<const VolumeSource>>;
+// Shared by the multigrid levels' copies of FlowParams: each source is set in time once.
+using VolumeSources = std::vector<std::shared_ptr<VolumeSource>>;
 
 // A momentum source per unit volume that depends on position alone.
 class PositionSource final : public VolumeSource {
@@ -54,8 +58,8 @@ class PositionSource final : public VolumeSource {
   std::function<Vec3(const Vec3&)> momentum_;
 };
 
-inline std::shared_ptr<const VolumeSource> position_source(std::string name, std::function<Vec3(const Vec3&)> f) {
-  return std::make_shared<const PositionSource>(std::move(name), std::move(f));
+inline std::shared_ptr<VolumeSource> position_source(std::string name, std::function<Vec3(const Vec3&)> f) {
+  return std::make_shared<PositionSource>(std::move(name), std::move(f));
 }
 
 }  // namespace narwhal
