@@ -264,17 +264,22 @@ class SteadyRun {
   // Every rank reads the restart (written in the case's layout) and keeps its pieces.
   void restore_state() {
     if (!opt_.restart) return;
-    if (c_.time.unsteady())
-      fail("{}: continuing a dual-time run from a restart is not supported yet (its old time levels are not saved)",
-           *opt_.restart);
+    // A dual-time run also reads Q^{n-1} (restored into the time levels in march()).
+    const bool unsteady = c_.time.unsteady();
+    if (unsteady) restored_previous_.allocate(g_, fp_, c_.initial);
     if (pieces_) {
-      FlowField w;
+      FlowField w, w_previous;
       w.allocate(whole_, fp_, c_.initial);
-      info_ = read_restart(*opt_.restart, whole_, w, c_.turbulence.model);
+      if (unsteady) w_previous.allocate(whole_, fp_, c_.initial);
+      info_ = read_restart(*opt_.restart, whole_, w, c_.turbulence.model, unsteady ? &w_previous : nullptr);
       copy_between_layouts(g_, field_, whole_, w, false);
+      if (unsteady) copy_between_layouts(g_, restored_previous_, whole_, w_previous, false);
     } else {
-      info_ = read_restart(*opt_.restart, g_, field_, c_.turbulence.model);
+      info_ = read_restart(*opt_.restart, g_, field_, c_.turbulence.model, unsteady ? &restored_previous_ : nullptr);
     }
+    if (info_.time_step > 0 && info_.time_step_size != c_.time.step)
+      fail("{}: the run was written with time steps of {:g}; this case's time.step is {:g} (a BDF2 run continues "
+           "with the step it had)", *opt_.restart, info_.time_step_size, c_.time.step);
     if (own_restart_) last_restart_ = info_.iteration;
     if (flow_rate_ && info_.body_force > 0.0) flow_rate_->set_magnitude(info_.body_force);
   }
@@ -283,7 +288,9 @@ class SteadyRun {
   // turbulence model is loosely coupled (§8.6): one update after every mean-flow
   // step, or with coupling "smoothing" after every fine-level smoothing step.
   void build_solvers() {
-    if (c_.solver.invariant_shortcut) {
+    // A moving grid may turn its invariant layers out of their plane (the shortcut is
+    // decided once, on the grid as built).
+    if (c_.solver.invariant_shortcut && !c_.motion) {
       const std::string note = mark_invariant_directions(g_, field_, fp_);
       if (!note.empty() && root_) fmt::print("narwhal: {}\n", note);
     }
@@ -382,8 +389,11 @@ class SteadyRun {
       mg_->use_physical_time(&dual_time_->term());
     else
       single_->set_physical_time(&dual_time_->term());
-    if (root_) steps_ = std::make_unique<StepsWriter>(file("steps.csv"), groups_);
+    if (root_)
+      steps_ = std::make_unique<StepsWriter>(file("steps.csv"), groups_,
+                                             continuing_ ? std::optional<int>(info_.time_step) : std::nullopt);
     prepare_motion();
+    restore_time_levels();
     try {
       while (s_.status == RunStatus::MaxIterations && dual_time_->step() < c_.time.steps) {
         dual_time_->begin_step(g_, field_);
@@ -392,6 +402,8 @@ class SteadyRun {
         const auto [subiterations, drop] = sub_iterate();
         if (s_.status == RunStatus::Diverged) break;
         if (steps_) steps_->write(dual_time_->step(), dual_time_->time(), subiterations, drop, forces_);
+        if (c_.output.restart_interval > 0 && dual_time_->step() % c_.output.restart_interval == 0)
+          checkpoint(s_.iterations);
         show_step_progress(subiterations, drop);
       }
       if (s_.status == RunStatus::MaxIterations) s_.status = RunStatus::Completed;
@@ -414,6 +426,23 @@ class SteadyRun {
       add(g_);
     if (pieces_) add(whole_);
     for (auto& m : moving_) m->place_at(motion_->pose(0.0));
+  }
+
+  // A dual-time restart continues at step n as if never stopped: the grids placed at
+  // t^{n-1} give the time levels V^{n-1} (with Q^{n-1} from the file), then move to t^n
+  // as step n moved them (the face speeds and swept volumes BDF2 goes on from).
+  void restore_time_levels() {
+    if (!opt_.restart || info_.time_step == 0) return;
+    const int n = info_.time_step;
+    const Real dt = c_.time.step, t = info_.time;
+    if (motion_)
+      for (auto& m : moving_) m->place_at(motion_->pose(t - dt));
+    dual_time_->restore(g_, restored_previous_, n, t);
+    if (motion_)
+      for (auto& m : moving_)
+        m->move_to(motion_->pose(t), motion_->velocity(t), motion_->angular_velocity(t), dt,
+                   dual_time_->coefficients_of_step(n));
+    restored_previous_ = FlowField{};
   }
 
   // §6.8 steps 1-2: the grids to the pose of t^{n+1}, their metrics and face speeds.
@@ -567,7 +596,8 @@ class SteadyRun {
     r.start_window = start.window;
     r.start_components = start.components;
     FlowField& out = assemble();
-    if (root_) write_restart(restart_path_, pieces_ ? whole_ : g_, out, r, c_.text);
+    const FlowField* previous = dual_time_ ? &assemble_previous_level(r) : nullptr;
+    if (root_) write_restart(restart_path_, pieces_ ? whole_ : g_, out, r, c_.text, previous);
     last_restart_ = it;
   }
 
@@ -637,6 +667,24 @@ class SteadyRun {
     out_grid.halo.reset();
   }
 
+  // Collective: a dual-time run's step, time and Q^{n-1} for its restart, Q^{n-1} in the
+  // case's layout on the root (as assemble() does for Q^n).
+  FlowField& assemble_previous_level(RestartInfo& r) {
+    r.time_step = dual_time_->step();
+    r.time = dual_time_->time();
+    r.time_step_size = c_.time.step;
+    if (!moving_.empty()) r.reference_extents = moving_.back()->reference_extents();  // the files' layout moves last
+    if (previous_.Q.empty()) previous_.allocate(g_, fp_, c_.initial);
+    dual_time_->save_previous(g_, previous_);
+    gather_to_root(g_, previous_);
+    if (!pieces_) return previous_;
+    if (root_) {
+      if (whole_previous_.Q.empty()) whole_previous_.allocate(whole_, fp_, c_.initial);
+      copy_between_layouts(g_, previous_, whole_, whole_previous_, true);
+    }
+    return whole_previous_;
+  }
+
   // The root writes files in the case's layout from every rank's cells.
   FlowField& assemble() {
     gather_to_root(g_, field_);
@@ -682,6 +730,8 @@ class SteadyRun {
   Monitors monitors_{0};
   std::unique_ptr<HistoryWriter> history_;
   std::unique_ptr<DualTime> dual_time_;      // dual-time runs only
+  FlowField restored_previous_;              // Q^{n-1} read from a restart, until the time levels take it
+  FlowField previous_, whole_previous_;      // Q^{n-1} gathered for restarts (pieces, case layout)
   std::unique_ptr<PrescribedMotion> motion_;  // a moving grid's motion
   std::vector<std::unique_ptr<MovingGrid>> moving_;  // every grid that moves with it
   std::unique_ptr<StepsWriter> steps_;       // the root's steps.csv (dual-time runs)

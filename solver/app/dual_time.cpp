@@ -30,12 +30,36 @@ void DualTime::begin_step(const Grid& g, const FlowField& f) {
       vol_n_[ib](i, j, k) = b.vol(i, j, k);
     });
   }
-  const bool second_order = tc_.scheme == TimeConfig::Scheme::Bdf2 && step_ > 0;
-  term_.set_step(tc_.step, second_order ? BdfCoefficients::bdf2(tc_.step / previous_step_) : BdfCoefficients::bdf1());
+  term_.set_step(tc_.step, coefficients_of_step(step_ + 1));
   term_.set_old_levels(g, vol_n_, q_n_, vol_nm1_, q_nm1_);
   previous_step_ = tc_.step;
   ++step_;
   time_ += tc_.step;
+}
+
+BdfCoefficients DualTime::coefficients_of_step(int n) const {
+  // Steps of one size so far (time.step): omega = 1.
+  return tc_.scheme == TimeConfig::Scheme::Bdf2 && n > 1 ? BdfCoefficients::bdf2(1.0) : BdfCoefficients::bdf1();
+}
+
+void DualTime::save_previous(const Grid& g, FlowField& f) const {
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+    if (g.owns(ib)) for_each_cell(g.blocks[ib], [&](int i, int j, int k) { f.Q[ib](i, j, k) = q_n_[ib](i, j, k); });
+}
+
+void DualTime::restore(const Grid& g, const FlowField& previous, int step, Real time) {
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
+    const Block& b = g.blocks[ib];
+    for_each_cell(b, [&](int i, int j, int k) {
+      q_n_[ib](i, j, k) = previous.Q[ib](i, j, k);
+      vol_n_[ib](i, j, k) = b.vol(i, j, k);
+    });
+  }
+  step_ = step;
+  time_ = time;
+  previous_step_ = step > 0 ? tc_.step : 0.0;
+  if (step > 0) term_.set_step(tc_.step, coefficients_of_step(step));
 }
 
 }  // namespace narwhal

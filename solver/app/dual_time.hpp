@@ -18,6 +18,15 @@ class DualTime {
 
   void begin_step(const Grid& g, const FlowField& f);
 
+  // The coefficients step `n` (1, 2, ...) uses: BDF1 for a BDF1 run and for a BDF2 run's
+  // first step.
+  BdfCoefficients coefficients_of_step(int n) const;
+
+  // For a restart: Q^{n-1} into f's Q (owned blocks), and back. restore() takes the
+  // volumes V^{n-1} from `g` as it stands: place a moving grid at t^{n-1} first.
+  void save_previous(const Grid& g, FlowField& f) const;
+  void restore(const Grid& g, const FlowField& previous, int step, Real time);
+
   // The finest level's physical-time term (the solver holds a pointer to it).
   const PhysicalTimeTerm& term() const { return term_; }
   int step() const { return step_; }          // steps begun

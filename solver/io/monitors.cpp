@@ -77,12 +77,15 @@ void HistoryWriter::write(int iteration, Real wall_seconds, const IterationNorms
     fail("cannot write '{}': {}", path_, std::strerror(errno));
 }
 
-StepsWriter::StepsWriter(const std::string& path, const std::vector<std::string>& groups)
+StepsWriter::StepsWriter(const std::string& path, const std::vector<std::string>& groups,
+                         std::optional<int> resume_after)
     : path_(path), groups_(groups) {
   std::string header = "step,time,subiterations,drop";
   for (const auto& g : groups)
     for (const char* c : {"cfx", "cfy", "cfz", "cmx", "cmy", "cmz"}) header += fmt::format(",{}_{}", g, c);
-  write_file_atomically(path, header + "\n");
+  header += "\n";
+  const bool resume = resume_after && std::filesystem::exists(path);
+  write_file_atomically(path, resume ? history_kept(path, header, *resume_after) : header);
   file_ = std::fopen(path.c_str(), "a");
   if (!file_) fail("cannot write '{}': {}", path, std::strerror(errno));
 }

@@ -40,7 +40,8 @@ class HistoryWriter {
 // and moment coefficients at the step's end).
 class StepsWriter {
  public:
-  StepsWriter(const std::string& path, const std::vector<std::string>& groups);
+  // `resume_after`: a run continuing from the restart of that step keeps the rows up to it.
+  StepsWriter(const std::string& path, const std::vector<std::string>& groups, std::optional<int> resume_after);
   ~StepsWriter();
   StepsWriter(const StepsWriter&) = delete;
   StepsWriter& operator=(const StepsWriter&) = delete;

@@ -238,7 +238,7 @@ void unpack(const Block& b, const std::vector<double>& buf, GhostArray<State>& a
 }
 
 void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, const RestartInfo& info,
-                const std::string& case_text) {
+                const std::string& case_text, const FlowField* previous) {
   Hid fcpl{H5Pcreate(H5P_FILE_CREATE), H5Pclose};
   H5Pset_userblock(fcpl, kUserBlock);
   hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
@@ -274,6 +274,9 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
                                           info.residual_reference[1], info.residual_reference[2],
                                           info.residual_reference[3]};
     write_dataset(path, file, "last_iteration", {monitors.size()}, monitors.data());
+    write_scalar_attr(path, file, "time_step", H5T_NATIVE_INT, info.time_step);
+    write_scalar_attr(path, file, "time", H5T_NATIVE_DOUBLE, info.time);
+    write_scalar_attr(path, file, "time_step_size", H5T_NATIVE_DOUBLE, info.time_step_size);
     write_scalar_attr(path, file, "block_count", H5T_NATIVE_INT, static_cast<int>(g.blocks.size()));
     write_scalar_attr(path, file, "turbulence_variables", H5T_NATIVE_INT, f.turb.empty() ? 0 : 2);
     Hid blocks{H5Gcreate2(file, "blocks", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
@@ -282,13 +285,17 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
       const Block& b = g.blocks[ib];
       Hid grp{H5Gcreate2(blocks, b.name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
       if (grp < 0) fail("cannot write block '{}' of restart file '{}'", b.name, path);
-      const std::array<double, 6> e = extent(b);
+      const std::array<double, 6> e = info.reference_extents.empty() ? extent(b) : info.reference_extents[ib];
       write_dataset(path, grp, "extent", {6}, e.data());
       // Q[k][j][i][eq] (C order, i fastest among cells, equations innermost).
       const std::vector<hsize_t> dims{static_cast<hsize_t>(b.nk), static_cast<hsize_t>(b.nj),
                                       static_cast<hsize_t>(b.ni), kNumEq};
       pack<State, kNumEq>(b, f.Q[ib], buf);
       write_dataset(path, grp, "Q", dims, buf.data());
+      if (previous) {  // Q^{n-1} of a dual-time run
+        pack<State, kNumEq>(b, previous->Q[ib], buf);
+        write_dataset(path, grp, "Q_previous", dims, buf.data());
+      }
       if (!f.turb.empty()) {  // turbulence model variables T[k][j][i][2]
         pack<TurbState, 2>(b, f.turb[ib], buf);
         write_dataset(path, grp, "turbulence", {dims[0], dims[1], dims[2], 2}, buf.data());
@@ -319,10 +326,10 @@ void stamp_checksums(const std::string& path) {
 }  // namespace
 
 void write_restart(const std::string& path, const Grid& g, const FlowField& f, const RestartInfo& info,
-                   const std::string& case_text) {
+                   const std::string& case_text, const FlowField* previous) {
   const std::string tmp = path + ".tmp";
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // failures are reported as Errors, not HDF5 stacks
-  write_hdf5(tmp, g, f, info, case_text);
+  write_hdf5(tmp, g, f, info, case_text, previous);
   stamp_checksums(tmp);
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
@@ -331,7 +338,8 @@ void write_restart(const std::string& path, const Grid& g, const FlowField& f, c
 
 void verify_restart_checksums(const std::string& path) { verify(path, read_bytes(path)); }
 
-RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, const std::string& turbulence_model) {
+RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, const std::string& turbulence_model,
+                         FlowField* previous) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) fail("restart file '{}' does not exist or is not a file", path);
   verify_restart_checksums(path);
@@ -379,6 +387,14 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
   info.turbulence_residual = {m[7], m[8]};
   info.turbulence_drop = m[9];
   info.residual_reference = {m[10], m[11], m[12], m[13]};
+  if (H5Aexists(file, "time_step") > 0) {  // older restarts: steady states
+    info.time_step = read_scalar_attr<int>(path, file, "time_step", H5T_NATIVE_INT);
+    info.time = read_scalar_attr<double>(path, file, "time", H5T_NATIVE_DOUBLE);
+    info.time_step_size = read_scalar_attr<double>(path, file, "time_step_size", H5T_NATIVE_DOUBLE);
+  }
+  if (info.time_step > 0 && !previous)
+    fail("restart '{}' holds a dual-time run at step {} (t = {:g}); this case has no [time] table to continue it",
+         path, info.time_step, info.time);
   const int blocks = read_scalar_attr<int>(path, file, "block_count", H5T_NATIVE_INT);
   if (blocks != static_cast<int>(g.blocks.size()))
     fail("restart '{}' holds {} block(s); this run's grid has {}: it was written for another grid", path, blocks,
@@ -410,6 +426,10 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
                                     static_cast<hsize_t>(b.ni), kNumEq};
     read_dataset(path, file, grp + "/Q", dims, buf);
     unpack<State, kNumEq>(b, buf, f.Q[ib]);
+    if (info.time_step > 0) {
+      read_dataset(path, file, grp + "/Q_previous", dims, buf);
+      unpack<State, kNumEq>(b, buf, previous->Q[ib]);
+    }
     if (turbulent) {
       read_dataset(path, file, grp + "/turbulence", {dims[0], dims[1], dims[2], 2}, buf);
       unpack<TurbState, 2>(b, buf, f.turb[ib]);

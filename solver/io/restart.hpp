@@ -50,17 +50,28 @@ struct RestartInfo {
   int turbulence_start_ended = 0;
   std::vector<Real> start_window{};
   int start_components = 0;
+  // A dual-time run (app/dual_time.hpp): the physical steps taken, t^n, the last step's
+  // dt; its Q^{n-1} is the `previous` field of write/read_restart. 0 steps: a steady state.
+  int time_step = 0;
+  Real time = 0.0;
+  Real time_step_size = 0.0;
+  // A moving grid's blocks are checked against the grid as built: their extents there
+  // (empty: the grid written is as built).
+  std::vector<std::array<double, 6>> reference_extents{};
 };
 
 // Writes atomically (temporary file + rename) so a crash never leaves a torn restart;
 // any write error (a full disk) is an Error naming the file.
 void write_restart(const std::string& path, const Grid& g, const FlowField& f, const RestartInfo& info,
-                   const std::string& case_text);
+                   const std::string& case_text, const FlowField* previous = nullptr);
 
 // Verifies the checksums, then reads the state into `f` (allocated for `g`). Refused
 // with a message: a corrupt file, another turbulence model than `turbulence_model`,
 // another block count, block names, sizes or extents than `g`.
-RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, const std::string& turbulence_model);
+// `previous`: where a dual-time restart's Q^{n-1} goes (allocated for g); a restart of
+// a dual-time run read without it, or one without Q^{n-1}, is refused.
+RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, const std::string& turbulence_model,
+                         FlowField* previous = nullptr);
 
 // The checksum layer alone (for tests): throws naming the file and the bytes that
 // do not match, or returns quietly.

@@ -1,5 +1,7 @@
 #include "motion/grid_motion.hpp"
 
+#include <algorithm>
+
 namespace narwhal {
 
 Real hexahedron_volume(const std::array<Vec3, 8>& n) {
@@ -47,6 +49,23 @@ MovingGrid::MovingGrid(Grid& g, const Vec3& pivot) : g_(g), pivot_(pivot) {
     x0_.push_back(b.x);
     for (int d = 0; d < 3; ++d) swept_[ib][d] = b.kt[d];  // the face layout, ghosts included
   }
+}
+
+std::vector<std::array<double, 6>> MovingGrid::reference_extents() const {
+  std::vector<std::array<double, 6>> out;
+  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    const Block& b = g_.blocks[ib];
+    std::array<double, 6> e{1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
+    for (int k = 0; k <= b.nk; ++k)
+      for (int j = 0; j <= b.nj; ++j)
+        for (int i = 0; i <= b.ni; ++i)
+          for (int d = 0; d < 3; ++d) {
+            e[d] = std::min(e[d], x0_[ib](i, j, k)[d]);
+            e[d + 3] = std::max(e[d + 3], x0_[ib](i, j, k)[d]);
+          }
+    out.push_back(e);
+  }
+  return out;
 }
 
 void MovingGrid::place_at(const RigidPose& pose) {

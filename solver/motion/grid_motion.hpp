@@ -50,6 +50,9 @@ class MovingGrid {
   void place_at(const RigidPose& pose);
 
   const Vec3& pivot() const { return pivot_; }
+  // Each block's bounding box as built (min x, y, z, max x, y, z): restarts check a
+  // moving grid's blocks there.
+  std::vector<std::array<double, 6>> reference_extents() const;
 
  private:
   Grid& g_;
