@@ -13,18 +13,28 @@
 
 namespace narwhal {
 
-std::string history_header(const std::vector<std::string>& groups, const std::vector<std::string>& turbulence) {
-  std::string h = "iteration,wall_s,cfl,res_p,res_u,res_v,res_w";
-  for (const auto& t : turbulence) h += ",res_" + t;
-  for (const auto& g : groups)
-    for (const char* c : {"cfx", "cfy", "cfz", "cmx", "cmy", "cmz"}) h += fmt::format(",{}_{}", g, c);
-  return h + "\n";
-}
-
 namespace {
 
-// The rows of an existing history that a run resuming after `iteration` keeps.
-std::string history_kept(const std::string& path, const std::string& header, int iteration) {
+// Each wall group's force and moment coefficients: the header's and a row's columns.
+std::string force_header(const std::vector<std::string>& groups) {
+  std::string h;
+  for (const auto& g : groups)
+    for (const char* c : {"cfx", "cfy", "cfz", "cmx", "cmy", "cmz"}) h += fmt::format(",{}_{}", g, c);
+  return h;
+}
+
+std::string force_fields(const std::vector<std::string>& groups, const std::map<std::string, ForceCoefficients>& forces) {
+  std::string row;
+  for (const auto& g : groups) {
+    const auto& c = forces.at(g);
+    row += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", c.force[0], c.force[1], c.force[2],
+                       c.moment[0], c.moment[1], c.moment[2]);
+  }
+  return row;
+}
+
+// The rows of an existing file that a run resuming after `iteration` keeps.
+std::string rows_kept(const std::string& path, const std::string& header, int iteration) {
   const std::string text = read_text_file(path);
   if (text.compare(0, header.size(), header) != 0)
     fail("cannot continue '{}': its columns are not this run's (another case or turbulence model wrote it)", path);
@@ -45,19 +55,32 @@ std::string history_kept(const std::string& path, const std::string& header, int
 
 }  // namespace
 
-HistoryWriter::HistoryWriter(const std::string& path, const std::vector<std::string>& groups,
-                             const std::vector<std::string>& turbulence, std::optional<int> resume_after)
-    : path_(path), groups_(groups), turbulence_(turbulence.size()) {
-  const std::string header = history_header(groups, turbulence);
+std::string history_header(const std::vector<std::string>& groups, const std::vector<std::string>& turbulence) {
+  std::string h = "iteration,wall_s,cfl,res_p,res_u,res_v,res_w";
+  for (const auto& t : turbulence) h += ",res_" + t;
+  return h + force_header(groups) + "\n";
+}
+
+AppendedCsv::AppendedCsv(const std::string& path, const std::string& header, std::optional<int> resume_after)
+    : path_(path) {
   const bool resume = resume_after && std::filesystem::exists(path);
-  write_file_atomically(path, resume ? history_kept(path, header, *resume_after) : header);
+  write_file_atomically(path, resume ? rows_kept(path, header, *resume_after) : header);
   file_ = std::fopen(path.c_str(), "a");
   if (!file_) fail("cannot write '{}': {}", path, std::strerror(errno));
 }
 
-HistoryWriter::~HistoryWriter() {
+AppendedCsv::~AppendedCsv() {
   if (file_) std::fclose(file_);
 }
+
+void AppendedCsv::append(const std::string& row) {
+  if (std::fwrite(row.data(), 1, row.size(), file_) != row.size() || std::fflush(file_) != 0)
+    fail("cannot write '{}': {}", path_, std::strerror(errno));
+}
+
+HistoryWriter::HistoryWriter(const std::string& path, const std::vector<std::string>& groups,
+                             const std::vector<std::string>& turbulence, std::optional<int> resume_after)
+    : groups_(groups), turbulence_(turbulence.size()), file_(path, history_header(groups, turbulence), resume_after) {}
 
 void HistoryWriter::write(int iteration, Real wall_seconds, const IterationNorms& n,
                           const std::map<std::string, ForceCoefficients>& forces, const std::vector<Real>& turbulence) {
@@ -65,46 +88,17 @@ void HistoryWriter::write(int iteration, Real wall_seconds, const IterationNorms
   std::string row = fmt::format("{},{:.6f},{:.6e},{:.17g},{:.17g},{:.17g},{:.17g}", iteration, wall_seconds, n.cfl,
                                 n.l2[0], n.l2[1], n.l2[2], n.l2[3]);
   for (std::size_t m = 0; m < turbulence_; ++m) row += fmt::format(",{:.17g}", m < turbulence.size() ? turbulence[m] : 0.0);
-  for (const auto& g : groups_) {
-    const auto& c = forces.at(g);
-    row += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", c.force[0], c.force[1], c.force[2],
-                       c.moment[0], c.moment[1], c.moment[2]);
-  }
-  row += "\n";
-  // One write per row, flushed at once: a killed run leaves whole rows (and at most
-  // one torn last row, which a resumed run drops).
-  if (std::fwrite(row.data(), 1, row.size(), file_) != row.size() || std::fflush(file_) != 0)
-    fail("cannot write '{}': {}", path_, std::strerror(errno));
+  file_.append(row + force_fields(groups_, forces) + "\n");
 }
 
 StepsWriter::StepsWriter(const std::string& path, const std::vector<std::string>& groups,
                          std::optional<int> resume_after)
-    : path_(path), groups_(groups) {
-  std::string header = "step,time,subiterations,drop";
-  for (const auto& g : groups)
-    for (const char* c : {"cfx", "cfy", "cfz", "cmx", "cmy", "cmz"}) header += fmt::format(",{}_{}", g, c);
-  header += "\n";
-  const bool resume = resume_after && std::filesystem::exists(path);
-  write_file_atomically(path, resume ? history_kept(path, header, *resume_after) : header);
-  file_ = std::fopen(path.c_str(), "a");
-  if (!file_) fail("cannot write '{}': {}", path, std::strerror(errno));
-}
-
-StepsWriter::~StepsWriter() {
-  if (file_) std::fclose(file_);
-}
+    : groups_(groups), file_(path, "step,time,subiterations,drop" + force_header(groups) + "\n", resume_after) {}
 
 void StepsWriter::write(int step, Real time, int subiterations, Real drop,
                         const std::map<std::string, ForceCoefficients>& forces) {
-  std::string row = fmt::format("{},{:.17g},{},{:.6e}", step, time, subiterations, drop);
-  for (const auto& g : groups_) {
-    const auto& c = forces.at(g);
-    row += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", c.force[0], c.force[1], c.force[2],
-                       c.moment[0], c.moment[1], c.moment[2]);
-  }
-  row += "\n";
-  if (std::fwrite(row.data(), 1, row.size(), file_) != row.size() || std::fflush(file_) != 0)
-    fail("cannot write '{}': {}", path_, std::strerror(errno));
+  file_.append(fmt::format("{},{:.17g},{},{:.6e}", step, time, subiterations, drop) + force_fields(groups_, forces) +
+               "\n");
 }
 
 void write_surface_csv(const std::string& path, const std::vector<WallFace>& faces) {

@@ -12,27 +12,37 @@
 
 namespace narwhal {
 
-class HistoryWriter {
+// A monitor file written a row at a time, each row whole and flushed at once: a killed
+// run leaves whole rows (and at most one torn last row). With `resume_after` (a run
+// continuing from a restart written at that iteration or step, the first column) the
+// existing file is cut back to its complete rows up to it, so the continued file has
+// each row once, in order. A failed write is an Error naming the file.
+class AppendedCsv {
  public:
-  // A new history.csv, or with `resume_after` (a run continuing from a restart written
-  // at that iteration) the existing one cut back to its complete rows up to that
-  // iteration — rows written after the checkpoint by a killed run, and a torn last
-  // line, are dropped — so the continued history has each iteration once, in order.
-  // `turbulence`: names of the turbulence model's variables (a residual column each).
-  HistoryWriter(const std::string& path, const std::vector<std::string>& groups,
-                const std::vector<std::string>& turbulence, std::optional<int> resume_after);
-  ~HistoryWriter();
-  HistoryWriter(const HistoryWriter&) = delete;
-  HistoryWriter& operator=(const HistoryWriter&) = delete;
-  // One row, written and flushed as a whole; a failed write is an Error naming the file.
-  void write(int iteration, Real wall_seconds, const IterationNorms& n,
-             const std::map<std::string, ForceCoefficients>& forces, const std::vector<Real>& turbulence = {});
+  AppendedCsv(const std::string& path, const std::string& header, std::optional<int> resume_after);
+  ~AppendedCsv();
+  AppendedCsv(const AppendedCsv&) = delete;
+  AppendedCsv& operator=(const AppendedCsv&) = delete;
+  void append(const std::string& row);
 
  private:
   std::string path_;
   std::FILE* file_ = nullptr;
+};
+
+// history.csv: one row per iteration (or multigrid cycle). `turbulence`: names of the
+// turbulence model's variables (a residual column each).
+class HistoryWriter {
+ public:
+  HistoryWriter(const std::string& path, const std::vector<std::string>& groups,
+                const std::vector<std::string>& turbulence, std::optional<int> resume_after);
+  void write(int iteration, Real wall_seconds, const IterationNorms& n,
+             const std::map<std::string, ForceCoefficients>& forces, const std::vector<Real>& turbulence = {});
+
+ private:
   std::vector<std::string> groups_;
   std::size_t turbulence_ = 0;
+  AppendedCsv file_;
 };
 
 // steps.csv of a dual-time run: one row per physical step (step, time t^{n+1}, the
@@ -40,17 +50,12 @@ class HistoryWriter {
 // and moment coefficients at the step's end).
 class StepsWriter {
  public:
-  // `resume_after`: a run continuing from the restart of that step keeps the rows up to it.
   StepsWriter(const std::string& path, const std::vector<std::string>& groups, std::optional<int> resume_after);
-  ~StepsWriter();
-  StepsWriter(const StepsWriter&) = delete;
-  StepsWriter& operator=(const StepsWriter&) = delete;
   void write(int step, Real time, int subiterations, Real drop, const std::map<std::string, ForceCoefficients>& forces);
 
  private:
-  std::string path_;
-  std::FILE* file_ = nullptr;
   std::vector<std::string> groups_;
+  AppendedCsv file_;
 };
 
 // The first line of history.csv for these wall groups and turbulence variables.

@@ -120,4 +120,25 @@ inline Real converge(NewtonSolver& s, Real drop, int max_it) {
   return last / first;
 }
 
+// A dual-time run's settings for tests: `steps` steps of `dt`.
+inline TimeConfig time_config(TimeConfig::Scheme scheme, Real dt, int steps) {
+  TimeConfig tc;
+  tc.scheme = scheme;
+  tc.step = dt;
+  tc.steps = steps;
+  return tc;
+}
+
+// One physical step's iterations (`iterate` returns the norms of the state entering
+// it) until the residual has dropped `drop`, at most `most` of them.
+template <class Iterate>
+void converge_step(Iterate&& iterate, Real drop, int most) {
+  Real first = -1.0;
+  for (int m = 0; m < most; ++m) {
+    const Real total = iterate().total;
+    if (first < 0.0) first = total;
+    if (total <= drop * first || total < 1e-15) break;
+  }
+}
+
 }  // namespace narwhal::test

@@ -42,6 +42,17 @@ def fake_foam_run(d, forces, moments, iterations=3):
     (poly / "owner").write_text('note "nPoints:8  nCells:1  nFaces:6  nInternalFaces:0";\n')
 
 
+def write_later_run(d, log):
+    """A simpleFoam run started from the solution written at iteration 2 (a stage or a
+    leg): iterations 3 and 4 in `log`, its execution time from zero again, a drag of 2,
+    and the forces object's files in a new folder named by its start time."""
+    (d / log).write_text("".join(f"Time = {i}\n\nExecutionTime = {0.25 * (i - 2)} s\n\n" for i in (3, 4)))
+    folder = d / "postProcessing" / "forces" / "2"
+    folder.mkdir(parents=True)
+    for name, v in (("force.dat", "(2 0 0)\t(1 0 0)\t(1 0 0)"), ("moment.dat", "(0 0 0)\t(0 0 0)\t(0 0 0)")):
+        (folder / name).write_text("# forces\n" + "".join(f"{i}\t{v}\n" for i in (3, 4)))
+
+
 def write_cgns(path, zones, fields=True):
     """A solution or grid file in the layout narwhal writes (harness/solution.py reads it):
     zones as (name, ordinal, nodes (nk+1, nj+1, ni+1, 3), {CGNS name: (nk, nj, ni)})."""
@@ -266,13 +277,7 @@ class StartStage(unittest.TestCase):
         fake_foam_run(d, [(1.0, 0.0, 0.0), (0.5, 0.0, 0.0), (0.5, 0.0, 0.0)],
                       [(0.0, 0.0, 0.0)] * 3, iterations=2)
         (d / "log.simpleFoam").rename(d / "log.start")
-        # the case's stage: iterations 3 and 4, its execution time from zero again
-        (d / "log.simpleFoam").write_text("".join(f"Time = {i}\n\nExecutionTime = {0.25 * (i - 2)} s\n\n"
-                                                  for i in (3, 4)))
-        second = d / "postProcessing" / "forces" / "2"
-        second.mkdir(parents=True)
-        for name, v in (("force.dat", "(2 0 0)\t(1 0 0)\t(1 0 0)"), ("moment.dat", "(0 0 0)\t(0 0 0)\t(0 0 0)")):
-            (second / name).write_text("# forces\n" + "".join(f"{i}\t{v}\n" for i in (3, 4)))
+        write_later_run(d, "log.simpleFoam")  # the case's stage
         rows = openfoam.history(d, s)
         self.assertEqual([r[0] for r in rows], [1, 2, 3, 4])
         self.assertEqual([r[1] for r in rows], [0.5, 1.0, 1.25, 1.5])
@@ -318,14 +323,8 @@ class Resume(unittest.TestCase):
         s = openfoam.case_settings(CASE, "case.toml")
         # leg 1 ran iterations 1-3 (drag 1) and was stopped; its last write was at 2
         fake_foam_run(d, [(1.0, 0.0, 0.0)] * 3, [(0.0, 0.0, 0.0)] * 3, iterations=3)
-        # leg 2: iterations 3 and 4 again from the write at 2, drag 2, its time from zero;
-        # the forces object writes beside the folder "2" (none existed: a new one)
-        (d / "log.simpleFoam.2").write_text("".join(f"Time = {i}\n\nExecutionTime = {0.25 * (i - 2)} s\n\n"
-                                                    for i in (3, 4)))
-        again = d / "postProcessing" / "forces" / "2"
-        again.mkdir(parents=True)
-        for name, v in (("force.dat", "(2 0 0)\t(1 0 0)\t(1 0 0)"), ("moment.dat", "(0 0 0)\t(0 0 0)\t(0 0 0)")):
-            (again / name).write_text("# forces\n" + "".join(f"{i}\t{v}\n" for i in (3, 4)))
+        # leg 2: iterations 3 and 4 again from the write at 2, drag 2
+        write_later_run(d, "log.simpleFoam.2")
         rows = openfoam.history(d, s)
         self.assertEqual([r[0] for r in rows], [1, 2, 3, 4])
         q = 0.5 * s["area"]

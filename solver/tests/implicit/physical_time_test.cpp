@@ -14,6 +14,7 @@
 #include "mesh/generators.hpp"
 #include "mesh/setup.hpp"
 #include "multigrid/fas.hpp"
+#include "test_support.hpp"
 
 namespace narwhal {
 namespace {
@@ -72,11 +73,7 @@ struct Marched {
 // algebraic error far below the temporal one).
 void march(Grid& g, FlowField& f, const FlowParams& fp, TimeConfig::Scheme scheme, Real dt, int steps,
            int multigrid_levels = 1) {
-  TimeConfig tc;
-  tc.scheme = scheme;
-  tc.step = dt;
-  tc.steps = steps;
-  DualTime time(g, tc);
+  DualTime time(g, test::time_config(scheme, dt, steps));
   NewtonSettings ns;
   ns.sgs_iterations = 8;
   std::unique_ptr<NewtonSolver> single;
@@ -93,12 +90,7 @@ void march(Grid& g, FlowField& f, const FlowParams& fp, TimeConfig::Scheme schem
   const Real inf = std::numeric_limits<Real>::infinity();
   for (int s = 0; s < steps; ++s) {
     time.begin_step(g, f);
-    Real first = -1.0;
-    for (int m = 0; m < 60; ++m) {
-      const IterationNorms n = mg ? mg->cycle_with_cfl(inf) : single->iterate_with_cfl(inf);
-      if (first < 0.0) first = n.total;
-      if (n.total <= 1e-11 * first || n.total < 1e-15) break;
-    }
+    test::converge_step([&] { return mg ? mg->cycle_with_cfl(inf) : single->iterate_with_cfl(inf); }, 1e-11, 60);
   }
 }
 

@@ -13,6 +13,7 @@
 #include "motion/attitude.hpp"
 #include "motion/grid_motion.hpp"
 #include "multigrid/fas.hpp"
+#include "test_support.hpp"
 
 namespace narwhal {
 namespace {
@@ -110,7 +111,7 @@ TEST(GridMotion, FaceSpeedsApproximateTheSweptVolumeRateAtTheSchemesOrder) {
 // Cases of this file: a perturbed box cut into four blocks (two of them with rotated
 // index orientations), a uniform stream on every side.
 CaseConfig uniform_stream_case() {
-  const std::string text = R"(
+  std::string text = R"(
 [case]
 title = "free stream on a moving grid"
 [grid]
@@ -122,25 +123,9 @@ split_rotate = true
 [flow]
 reynolds = 50.0
 initial_velocity = [0.6, -0.3, 0.2]
-[bc.imin]
-type = "farfield"
-velocity = [0.6, -0.3, 0.2]
-[bc.imax]
-type = "farfield"
-velocity = [0.6, -0.3, 0.2]
-[bc.jmin]
-type = "farfield"
-velocity = [0.6, -0.3, 0.2]
-[bc.jmax]
-type = "farfield"
-velocity = [0.6, -0.3, 0.2]
-[bc.kmin]
-type = "farfield"
-velocity = [0.6, -0.3, 0.2]
-[bc.kmax]
-type = "farfield"
-velocity = [0.6, -0.3, 0.2]
 )";
+  for (const char* side : {"imin", "imax", "jmin", "jmax", "kmin", "kmax"})
+    text += std::string("[bc.") + side + "]\ntype = \"farfield\"\nvelocity = [0.6, -0.3, 0.2]\n";
   return parse_case(text, "uniform.toml", ".");
 }
 
@@ -148,10 +133,7 @@ TEST(GridMotion, DiscreteGclHoldsInEveryCellWithBdf2) {
   CaseConfig c = uniform_stream_case();
   Grid g = build_grid(c);
   MovingGrid moving(g, Vec3(0.5, 0.5, 0.5));
-  TimeConfig tc;
-  tc.scheme = TimeConfig::Scheme::Bdf2;
-  tc.step = 0.1;
-  tc.steps = 4;
+  const TimeConfig tc = test::time_config(TimeConfig::Scheme::Bdf2, 0.1, 4);
   DualTime time(g, tc);
   FlowField f;
   f.allocate(g, FlowParams{}, State::Zero());
@@ -191,10 +173,7 @@ void expect_free_stream_preserved(int multigrid_levels) {
   FlowParams fp = c.flow;
   FlowField f;
   f.allocate(g, fp, c.initial);
-  TimeConfig tc;
-  tc.scheme = TimeConfig::Scheme::Bdf2;
-  tc.step = 0.05;
-  tc.steps = 5;
+  const TimeConfig tc = test::time_config(TimeConfig::Scheme::Bdf2, 0.05, 5);
   DualTime time(g, tc);
   NewtonSettings ns;
   std::unique_ptr<NewtonSolver> single;

@@ -72,11 +72,7 @@ std::vector<State> solve(TimeConfig::Scheme scheme, int steps) {
   f.allocate(g, fp, State::Zero());
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
     for_each_cell(g.blocks[ib], [&](int i, int j, int k) { f.Q[ib](i, j, k) = fp.exact(g.blocks[ib].xc(i, j, k)); });
-  TimeConfig tc;
-  tc.scheme = scheme;
-  tc.step = dt;
-  tc.steps = steps;
-  DualTime time(g, tc);
+  DualTime time(g, test::time_config(scheme, dt, steps));
   NewtonSettings ns;
   ns.sgs_iterations = 10;
   NewtonSolver solver(g, f, fp, ns);
@@ -88,12 +84,7 @@ std::vector<State> solve(TimeConfig::Scheme scheme, int steps) {
     moving.move_to(pose_at(s * dt), Vec3::Zero(), Vec3::Zero(), dt, time.term().coefficients());
     *time_now = time.time();
     source->at_time(time.time());
-    Real first = -1.0;
-    for (int m = 0; m < 80; ++m) {
-      const IterationNorms n = solver.iterate_with_cfl(inf);
-      if (first < 0.0) first = n.total;
-      if (n.total <= 1e-11 * first) break;
-    }
+    test::converge_step([&] { return solver.iterate_with_cfl(inf); }, 1e-11, 80);
   }
   std::vector<State> out;
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
