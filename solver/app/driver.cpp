@@ -266,11 +266,11 @@ class SteadyRun {
     if (!opt_.restart) return;
     // A dual-time run also reads Q^{n-1} (restored into the time levels in march()).
     const bool unsteady = c_.time.unsteady();
-    if (unsteady) restored_previous_.allocate(g_, fp_, c_.initial);
+    if (unsteady) restored_previous_.allocate_states(g_, c_.initial);
     if (pieces_) {
       FlowField w, w_previous;
       w.allocate(whole_, fp_, c_.initial);
-      if (unsteady) w_previous.allocate(whole_, fp_, c_.initial);
+      if (unsteady) w_previous.allocate_states(whole_, c_.initial);
       info_ = read_restart(*opt_.restart, whole_, w, c_.turbulence.model, unsteady ? &w_previous : nullptr);
       copy_between_layouts(g_, field_, whole_, w, false);
       if (unsteady) copy_between_layouts(g_, restored_previous_, whole_, w_previous, false);
@@ -674,12 +674,12 @@ class SteadyRun {
     r.time = dual_time_->time();
     r.time_step_size = c_.time.step;
     if (!moving_.empty()) r.reference_extents = moving_.back()->reference_extents();  // the files' layout moves last
-    if (previous_.Q.empty()) previous_.allocate(g_, fp_, c_.initial);
+    if (previous_.Q.empty()) previous_.allocate_states(g_, c_.initial);
     dual_time_->save_previous(g_, previous_);
     gather_to_root(g_, previous_);
     if (!pieces_) return previous_;
     if (root_) {
-      if (whole_previous_.Q.empty()) whole_previous_.allocate(whole_, fp_, c_.initial);
+      if (whole_previous_.Q.empty()) whole_previous_.allocate_states(whole_, c_.initial);
       copy_between_layouts(g_, previous_, whole_, whole_previous_, true);
     }
     return whole_previous_;

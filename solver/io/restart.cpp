@@ -206,19 +206,6 @@ void write_text_dataset(const std::string& path, hid_t file, const char* name, c
     fail("cannot write dataset '{}' of restart file '{}'", name, path);
 }
 
-// Bounding box of a block's nodes: [xmin, ymin, zmin, xmax, ymax, zmax].
-std::array<double, 6> extent(const Block& b) {
-  std::array<double, 6> e{1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
-  for (int k = 0; k <= b.nk; ++k)
-    for (int j = 0; j <= b.nj; ++j)
-      for (int i = 0; i <= b.ni; ++i)
-        for (int d = 0; d < 3; ++d) {
-          e[d] = std::min(e[d], b.x(i, j, k)[d]);
-          e[3 + d] = std::max(e[3 + d], b.x(i, j, k)[d]);
-        }
-  return e;
-}
-
 template <class State, int N>
 void pack(const Block& b, const GhostArray<State>& a, std::vector<double>& buf) {
   buf.clear();
@@ -285,7 +272,7 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
       const Block& b = g.blocks[ib];
       Hid grp{H5Gcreate2(blocks, b.name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
       if (grp < 0) fail("cannot write block '{}' of restart file '{}'", b.name, path);
-      const std::array<double, 6> e = info.reference_extents.empty() ? extent(b) : info.reference_extents[ib];
+      const std::array<double, 6> e = info.reference_extents.empty() ? node_extent(b) : info.reference_extents[ib];
       write_dataset(path, grp, "extent", {6}, e.data());
       // Q[k][j][i][eq] (C order, i fastest among cells, equations innermost).
       const std::vector<hsize_t> dims{static_cast<hsize_t>(b.nk), static_cast<hsize_t>(b.nj),
@@ -415,7 +402,7 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
     if (H5Lexists(file, "blocks", H5P_DEFAULT) <= 0 || H5Lexists(file, grp.c_str(), H5P_DEFAULT) <= 0)
       fail("restart '{}' has no block '{}': it was written for another grid", path, b.name);
     read_dataset(path, file, grp + "/extent", {6}, buf);
-    const std::array<double, 6> e = extent(b);
+    const std::array<double, 6> e = node_extent(b);
     const double scale = std::max({e[3] - e[0], e[4] - e[1], e[5] - e[2]});
     for (int d = 0; d < 6; ++d)
       if (!(std::abs(buf[d] - e[d]) <= 1e-9 * scale))

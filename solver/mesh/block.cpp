@@ -1,5 +1,7 @@
 #include "mesh/block.hpp"
 
+#include <algorithm>
+
 #include "core/error.hpp"
 #include "mesh/ghost_sweep.hpp"
 
@@ -164,6 +166,18 @@ void fill_ghost_nodes(Grid& g) {
 void prepare_geometry(Grid& g) {
   fill_ghost_nodes(g);
   for (auto& b : g.blocks) compute_metrics(b);
+}
+
+std::array<double, 6> node_extent(const Block& b, const GhostArray<Vec3>& nodes) {
+  std::array<double, 6> e{1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
+  for (int k = 0; k <= b.nk; ++k)
+    for (int j = 0; j <= b.nj; ++j)
+      for (int i = 0; i <= b.ni; ++i)
+        for (int d = 0; d < 3; ++d) {
+          e[d] = std::min(e[d], nodes(i, j, k)[d]);
+          e[3 + d] = std::max(e[3 + d], nodes(i, j, k)[d]);
+        }
+  return e;
 }
 
 }  // namespace narwhal

@@ -2,6 +2,7 @@
 // Structured block: nodes with two ghost layers, per-face-direction metrics
 // (area vectors, face speeds), cell volumes and centres (NUMERICS §2), and the
 // boundary patches that tile its six faces.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -163,6 +164,11 @@ void for_each_cell_ordered(const Block& b, bool forward, F&& f) {
 
 // Recompute S, face centroids, volumes and centres over the whole ghost-extended
 // range (§2.2–2.3). Ghost nodes must be filled first.
+// Bounding box [xmin, ymin, zmin, xmax, ymax, zmax] of a block's own nodes (ghost nodes
+// left out) at positions `nodes` (the block's, or a copy in its layout).
+std::array<double, 6> node_extent(const Block& b, const GhostArray<Vec3>& nodes);
+inline std::array<double, 6> node_extent(const Block& b) { return node_extent(b, b.x); }
+
 void compute_metrics(Block& b);
 
 // Ghost nodes: linear extrapolation at physical boundaries (§2.1), donor copies

@@ -47,24 +47,14 @@ MovingGrid::MovingGrid(Grid& g, const Vec3& pivot) : g_(g), pivot_(pivot) {
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
     x0_.push_back(b.x);
+    previous_x_.push_back(b.x);  // the layout; its values are set by each move
     for (int d = 0; d < 3; ++d) swept_[ib][d] = b.kt[d];  // the face layout, ghosts included
   }
 }
 
 std::vector<std::array<double, 6>> MovingGrid::reference_extents() const {
   std::vector<std::array<double, 6>> out;
-  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
-    const Block& b = g_.blocks[ib];
-    std::array<double, 6> e{1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
-    for (int k = 0; k <= b.nk; ++k)
-      for (int j = 0; j <= b.nj; ++j)
-        for (int i = 0; i <= b.ni; ++i)
-          for (int d = 0; d < 3; ++d) {
-            e[d] = std::min(e[d], x0_[ib](i, j, k)[d]);
-            e[d + 3] = std::max(e[d + 3], x0_[ib](i, j, k)[d]);
-          }
-    out.push_back(e);
-  }
+  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) out.push_back(node_extent(g_.blocks[ib], x0_[ib]));
   return out;
 }
 
@@ -85,7 +75,8 @@ void MovingGrid::move_to(const RigidPose& pose, const Vec3& velocity, const Vec3
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
     Block& b = g_.blocks[ib];
     b.motion = motion;
-    const GhostArray<Vec3> old = b.x;
+    std::swap(previous_x_[ib], b.x);  // the nodes of t^n; b.x keeps its layout
+    const GhostArray<Vec3>& old = previous_x_[ib];
     auto& x0 = x0_[ib].raw();
     auto& x = b.x.raw();
     for (std::size_t n = 0; n < x.size(); ++n) x[n] = pose.apply(x0[n], pivot_);

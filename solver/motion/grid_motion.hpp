@@ -58,6 +58,7 @@ class MovingGrid {
   Grid& g_;
   Vec3 pivot_;
   std::vector<GhostArray<Vec3>> x0_;                   // reference nodes per block
+  std::vector<GhostArray<Vec3>> previous_x_;           // the nodes before the last move
   std::vector<std::array<GhostArray<Real>, 3>> swept_;  // dV of the last step per face
   bool moved_ = false;
 };

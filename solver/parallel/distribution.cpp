@@ -35,7 +35,7 @@ void gather_to_root(const Grid& g, FlowField& f) {
     };
     if (comm.rank() != from && !comm.is_root()) continue;
     move(f.Q[ib], 1);
-    move(f.nu[ib], 2);
+    if (!f.nu.empty()) move(f.nu[ib], 2);
     if (turb) move(f.turb[ib], 3);
   }
 }
@@ -64,7 +64,7 @@ void copy_between_layouts(const Grid& pieces, FlowField& f_pieces, const Grid& w
       const std::size_t sb = to_whole ? ip : static_cast<std::size_t>(iw);
       const std::size_t db = to_whole ? static_cast<std::size_t>(iw) : ip;
       dst.Q[db](d) = src.Q[sb](s);
-      dst.nu[db](d) = src.nu[sb](s);
+      if (!src.nu.empty()) dst.nu[db](d) = src.nu[sb](s);
       if (!src.turb.empty()) dst.turb[db](d) = src.turb[sb](s);
     });
   }

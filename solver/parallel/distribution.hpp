@@ -19,14 +19,14 @@ namespace narwhal {
 // With one rank nothing changes (every block is owned).
 void distribute(Grid& g, int ranks, int rank);
 
-// Cells (Q, nu, turbulence variables) of every block onto the root; the other ranks'
-// fields are unchanged. Collective.
+// Cells (Q, nu, turbulence variables: those the field has) of every block onto the
+// root; the other ranks' fields are unchanged. Collective.
 void gather_to_root(const Grid& g, FlowField& f);
 
 // Interior cells between the balanced layout `pieces` and the case's layout `whole`
 // (blocks matched by Block::parent and its offset, or by name). `to_whole` true:
-// pieces -> whole; false: whole -> pieces. Turbulence variables are copied when the
-// source has them (the target's are allocated as needed).
+// pieces -> whole; false: whole -> pieces. nu and the turbulence variables are copied
+// when the source has them (the target's turbulence variables are allocated as needed).
 void copy_between_layouts(const Grid& pieces, FlowField& f_pieces, const Grid& whole, FlowField& f_whole, bool to_whole);
 
 }  // namespace narwhal

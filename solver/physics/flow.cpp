@@ -11,4 +11,10 @@ void FlowField::allocate(const Grid& g, const FlowParams& fp, const State& init)
   }
 }
 
+void FlowField::allocate_states(const Grid& g, const State& init) {
+  Q.clear();
+  nu.clear();
+  for (const auto& b : g.blocks) Q.emplace_back(b.ni, b.nj, b.nk, kGhost, init);
+}
+
 }  // namespace narwhal

@@ -37,6 +37,8 @@ struct FlowField {
   std::vector<GhostArray<Mat3>> tau_nl;
 
   void allocate(const Grid& g, const FlowParams& fp, const State& init);
+  // Q alone: a time level kept for a restart (gathered and written as Q is).
+  void allocate_states(const Grid& g, const State& init);
 };
 
 }  // namespace narwhal
