@@ -53,4 +53,10 @@ EulerAngles euler_from_quaternion(const Quaternion& e) {
   return a;
 }
 
+Quaternion quaternion_from_rotation(const Mat3& r) {
+  const Eigen::Quaternion<Real> q(r);  // Eigen's unit quaternion has §11.3's R
+  Quaternion e(q.w(), q.x(), q.y(), q.z());
+  return e[0] < 0.0 ? Quaternion(-e) : e;
+}
+
 }  // namespace narwhal

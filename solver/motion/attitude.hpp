@@ -30,6 +30,8 @@ Quaternion quaternion_rate(const Quaternion& e, const Vec3& omega);
 
 // §11.4: initialisation from and output to ZYX Euler angles (radians).
 Quaternion quaternion_from_euler(const EulerAngles& a);
+// The unit quaternion (e0 >= 0) of a rotation matrix: rotation_matrix(quaternion_from_rotation(R)) = R.
+Quaternion quaternion_from_rotation(const Mat3& r);
 EulerAngles euler_from_quaternion(const Quaternion& e);
 
 }  // namespace narwhal

@@ -27,6 +27,14 @@ struct RigidPose {
   Vec3 apply(const Vec3& x0, const Vec3& pivot) const { return rotation * (x0 - pivot) + pivot + displacement; }
 };
 
+// A rigid motion at one instant: the pose, the pivot's velocity and the angular
+// velocity (grid axes).
+struct RigidMotionSample {
+  RigidPose pose;
+  Vec3 velocity = Vec3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();
+};
+
 // The signed volume of the trilinear hexahedron with nodes n[p + 2 q + 4 r] at the
 // corners (p, q, r) of the unit cube, by §2.3's formula; positive when right-handed.
 Real hexahedron_volume(const std::array<Vec3, 8>& n);

@@ -16,10 +16,13 @@ RigidBodyState RigidBodyState::at_rest(const Vec3& position, const EulerAngles& 
   return s;
 }
 
-RigidBodyEquations::RigidBodyEquations(const MassProperties& mp) : mp_(mp) {
+RigidBodyEquations::RigidBodyEquations(const MassProperties& mp, const AccelerationOptions& options)
+    : mp_(mp), options_(options) {
   if (!(mp.mass > 0.0) || !std::isfinite(mp.mass)) fail("rigid body: mass must be positive and finite, got {}", mp.mass);
   if (!(mp.weight >= 0.0) || !(mp.buoyancy >= 0.0))
     fail("rigid body: weight and buoyancy must be non-negative, got W = {}, B = {}", mp.weight, mp.buoyancy);
+  if (!mp.down.allFinite() || std::abs(mp.down.norm() - 1.0) > 1e-12)
+    fail("rigid body: the down direction must be a unit vector, got ({}, {}, {})", mp.down[0], mp.down[1], mp.down[2]);
   if (!mp.inertia_o.allFinite() || (mp.inertia_o - mp.inertia_o.transpose()).norm() > 1e-12 * mp.inertia_o.norm())
     fail("rigid body: the inertia tensor about O must be finite and symmetric");
   // §11.2: M_RB = [m I, -m S(r_G); m S(r_G), I_O], symmetric because S(r_G)^T = -S(r_G).
@@ -38,22 +41,35 @@ RigidBodyEquations::RigidBodyEquations(const MassProperties& mp) : mp_(mp) {
     fail("rigid body: the inertia about the centre of gravity (I_O minus the parallel-axis term of r_G) must be "
          "positive definite; smallest principal value {}",
          eig.eigenvalues().minCoeff());
-  m_rb_factor_.compute(m_rb_);
+  const Mat6& ma = options.added_mass_estimate;
+  if (!ma.allFinite() || (ma - ma.transpose()).norm() > 1e-12 * std::max<Real>(ma.norm(), 1e-300) ||
+      Eigen::SelfAdjointEigenSolver<Mat6>(ma).eigenvalues().minCoeff() < -1e-12 * ma.norm())
+    fail("rigid body: the added-mass estimate must be symmetric positive semi-definite");
+  Mat6 m = m_rb_ + ma;
+  for (int d = 0; d < 6; ++d)
+    if (!options.free[d]) {
+      m.row(d).setZero();
+      m.col(d).setZero();
+      m(d, d) = 1.0;
+    }
+  solve_factor_.compute(m);
 }
 
 BodyLoads RigidBodyEquations::hydrostatic_loads(const RigidBodyState& s) const {
-  const Vec3 down = down_in_body(s.attitude());
+  const Vec3 down = rotation_matrix(s.attitude()).transpose() * mp_.down;
   BodyLoads h;
   h.force = (mp_.weight - mp_.buoyancy) * down;
   h.moment = mp_.r_g.cross(mp_.weight * down) - mp_.r_b.cross(mp_.buoyancy * down);
   return h;
 }
 
-Eigen::Matrix<Real, 6, 1> RigidBodyEquations::accelerations(const Vec3& v, const Vec3& w, const BodyLoads& total) const {
-  Eigen::Matrix<Real, 6, 1> rhs;
+Vec6 RigidBodyEquations::accelerations(const Vec3& v, const Vec3& w, const BodyLoads& total) const {
+  Vec6 rhs;
   rhs.head<3>() = total.force - mp_.mass * (w.cross(v) + w.cross(w.cross(mp_.r_g)));
   rhs.tail<3>() = total.moment - w.cross(mp_.inertia_o * w) - mp_.mass * mp_.r_g.cross(w.cross(v));
-  return m_rb_factor_.solve(rhs);
+  for (int d = 0; d < 6; ++d)
+    if (!options_.free[d]) rhs[d] = 0.0;
+  return solve_factor_.solve(rhs);
 }
 
 RigidBodyState RigidBodyEquations::derivative(const RigidBodyState& s, const BodyLoads& loads) const {
@@ -67,7 +83,7 @@ RigidBodyState RigidBodyEquations::derivative(const RigidBodyState& s, const Bod
 }
 
 Real RigidBodyEquations::kinetic_energy(const RigidBodyState& s) const {
-  const Eigen::Matrix<Real, 6, 1> nu = s.y.head<6>();
+  const Vec6 nu = s.y.head<6>();
   return 0.5 * nu.dot(m_rb_ * nu);
 }
 

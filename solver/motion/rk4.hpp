@@ -13,6 +13,7 @@
 // order of the flow's own time discretization) and fourth-order in everything else.
 // After the step the quaternion is renormalised; the size of that correction is
 // returned as a health check (§11.4: below 1e-10 per step for a sensible step).
+#include <array>
 #include <functional>
 
 #include "motion/rigid_body.hpp"
@@ -29,5 +30,12 @@ struct RigidBodyStep {
 RigidBodyStep advance_rk4(const RigidBodyEquations& body, const RigidBodyState& s, Real time, Real step,
                           const BodyLoads& flow_loads_now, const BodyLoads& flow_loads_next,
                           const StateDependentLoads& state_loads = nullptr);
+
+// The same step with each stage's flow loads given (stage 1 at t^n, stages 2 and 3 at
+// t^n + h/2, stage 4 at t^{n+1}); `stage_accelerations`, when given, receives each
+// stage's (dv/dt, dw/dt). The coupling adds its added-mass term per stage (§11.7).
+RigidBodyStep advance_rk4_stages(const RigidBodyEquations& body, const RigidBodyState& s, Real time, Real step,
+                                 const std::array<BodyLoads, 4>& flow_loads, const StateDependentLoads& state_loads,
+                                 std::array<Vec6, 4>* stage_accelerations = nullptr);
 
 }  // namespace narwhal

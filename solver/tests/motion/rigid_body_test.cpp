@@ -234,6 +234,34 @@ TEST(RigidBody, UnphysicalMassPropertiesAreRejectedWithTheirName) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("centre of gravity"), std::string::npos);
   }
+  mp = tumbling_body(Vec3::Zero());
+  mp.down = Vec3(0.0, 0.0, 2.0);
+  EXPECT_THROW(RigidBodyEquations{mp}, Error);
+  AccelerationOptions o;
+  o.added_mass_estimate(0, 0) = -1.0;
+  EXPECT_THROW(RigidBodyEquations(tumbling_body(Vec3::Zero()), o), Error);
+}
+
+TEST(RigidBody, GravityAlongAnyDownDirectionGivesTheSameMotionTurned) {
+  // The same release in NED earth axes and in axes turned about x by 90 degrees (down =
+  // -y there): positions and attitudes correspond under the turn.
+  MassProperties ned = tumbling_body(Vec3(0.1, -0.2, 0.3));
+  ned.weight = 3.0;
+  ned.buoyancy = 1.0;
+  ned.r_b = Vec3(0.0, 0.1, -0.1);
+  MassProperties turned = ned;
+  const Mat3 q = Eigen::AngleAxis<Real>(kPi / 2, Vec3::UnitX()).toRotationMatrix();
+  turned.down = q * Vec3::UnitZ();
+  const RigidBodyEquations a(ned), b(turned);
+  RigidBodyState sa = RigidBodyState::at_rest(Vec3::Zero(), EulerAngles{0.2, 0.1, -0.3}), sb = sa;
+  sb.attitude() = quaternion_from_rotation(q * rotation_matrix(sa.attitude()));
+  sa = integrate(a, sa, 2.0, 200);
+  sb = integrate(b, sb, 2.0, 200);
+  // Round-off apart (200 steps of a tumbling body whose position has moved by ~2).
+  EXPECT_LT((q * Vec3(sa.position()) - Vec3(sb.position())).norm(), 1e-10);
+  EXPECT_LT((q * rotation_matrix(sa.attitude()) - rotation_matrix(sb.attitude())).norm(), 1e-10);
+  EXPECT_LT((sa.y.head<6>() - sb.y.head<6>()).norm(), 1e-10);  // body-axis velocities agree
+  EXPECT_GT(Vec3(sb.position()).norm(), 0.5);
 }
 
 }  // namespace

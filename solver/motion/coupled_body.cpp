@@ -1,0 +1,122 @@
+#include "motion/coupled_body.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/error.hpp"
+#include "motion/grid_axes.hpp"
+
+namespace narwhal {
+
+RigidBodyState body_state_at_release(const Vec3& origin, const Vec3& velocity, const Vec3& angular_velocity) {
+  RigidBodyState s;
+  s.attitude() = quaternion_from_euler(EulerAngles{0.0, 0.0, std::numbers::pi});  // R = diag(-1, -1, 1)
+  s.position() = origin;
+  s.velocity() = grid_to_body_axes(velocity);
+  s.angular_velocity() = grid_to_body_axes(angular_velocity);
+  return s;
+}
+
+CoupledBody::CoupledBody(const MassProperties& mp, const AccelerationOptions& options, const RigidBodyState& initial,
+                         const CouplingSettings& settings)
+    : body_(mp, options), settings_(settings), pivot_(initial.position()),
+      initial_rotation_(rotation_matrix(initial.attitude())), y_n_(initial), estimate_(initial) {
+  if (!(settings.relaxation > 0.0 && settings.relaxation <= 1.0))
+    fail("coupled body: the relaxation factor must lie in (0, 1], got {}", settings.relaxation);
+  if (!(settings.tolerance > 0.0)) fail("coupled body: the coupling tolerance must be positive, got {}", settings.tolerance);
+}
+
+BodyLoads CoupledBody::to_body_axes(const BodyLoads& earth) const {
+  const Mat3 rt = rotation_matrix(estimate_.attitude()).transpose();
+  return {rt * earth.force, rt * earth.moment};
+}
+
+void CoupledBody::observe_initial_loads(const BodyLoads& flow_earth) { f_latest_ = to_body_axes(flow_earth); }
+
+RigidBodyStep CoupledBody::rk4_pass(const BodyLoads& f_next) {
+  // §11.6's interpolation of the flow loads, each stage plus M_A times its acceleration
+  // of the previous pass (§11.7's preconditioner; nothing when M_A = 0).
+  const Mat6& ma = body_.options().added_mass_estimate;
+  const BodyLoads f_mid = 0.5 * (f_n_ + f_next);
+  std::array<BodyLoads, 4> stage{f_n_, f_mid, f_mid, f_next};
+  for (int s = 0; s < 4; ++s) {
+    const Vec6 extra = ma * stage_acc_[s];
+    stage[s] += BodyLoads{extra.head<3>(), extra.tail<3>()};
+  }
+  return advance_rk4_stages(body_, y_n_, time_, step_, stage, nullptr, &stage_acc_);
+}
+
+void CoupledBody::begin_step(Real time, Real step) {
+  y_n_ = estimate_;
+  f_nm1_ = f_n_;
+  f_n_ = f_latest_;
+  time_ = time;
+  step_ = step;
+  // F^{n+1,*} = 2 F^n - F^{n-1} once F^{n-1} is known (from the second step on).
+  const BodyLoads predicted = steps_ >= 1 ? 2.0 * f_n_ + (-1.0) * f_nm1_ : f_n_;
+  ++steps_;
+  const RigidBodyStep st = rk4_pass(predicted);
+  estimate_ = st.state;
+  norm_error_ = st.quaternion_norm_error;
+}
+
+Real CoupledBody::correct(const BodyLoads& flow_earth) {
+  f_latest_ = to_body_axes(flow_earth);
+  const RigidBodyStep st = rk4_pass(f_latest_);
+  norm_error_ = st.quaternion_norm_error;
+  const RigidBodyVector before = estimate_.y;
+  estimate_.y += settings_.relaxation * (st.state.y - estimate_.y);
+  estimate_.attitude().normalize();
+  return (estimate_.y.head<6>() - before.head<6>()).cwiseAbs().maxCoeff();
+}
+
+RigidMotionSample CoupledBody::sample(const RigidBodyState& s) const {
+  const Mat3 r = rotation_matrix(s.attitude());
+  RigidMotionSample m;
+  m.pose.rotation = r * initial_rotation_.transpose();
+  m.pose.displacement = Vec3(s.position()) - pivot_;
+  m.velocity = r * Vec3(s.velocity());
+  m.angular_velocity = r * Vec3(s.angular_velocity());
+  return m;
+}
+
+std::vector<Real> CoupledBody::checkpoint() const {
+  std::vector<Real> v;
+  auto put = [&](const auto& x) {
+    for (Eigen::Index i = 0; i < x.size(); ++i) v.push_back(x[i]);
+  };
+  put(y_n_.y);
+  put(estimate_.y);
+  for (const BodyLoads* f : {&f_n_, &f_nm1_, &f_latest_}) {
+    put(f->force);
+    put(f->moment);
+  }
+  for (const Vec6& a : stage_acc_) put(a);
+  v.push_back(static_cast<Real>(steps_));
+  v.push_back(time_);
+  v.push_back(step_);
+  return v;
+}
+
+void CoupledBody::restore(const std::vector<Real>& v) {
+  const std::size_t expected = 2 * 13 + 3 * 6 + 4 * 6 + 3;
+  if (v.size() != expected)
+    fail("restart: the body's state has {} values, this build expects {}", v.size(), expected);
+  std::size_t at = 0;
+  auto get = [&](auto& x) {
+    for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = v[at++];
+  };
+  get(y_n_.y);
+  get(estimate_.y);
+  for (BodyLoads* f : {&f_n_, &f_nm1_, &f_latest_}) {
+    get(f->force);
+    get(f->moment);
+  }
+  for (Vec6& a : stage_acc_) get(a);
+  steps_ = static_cast<int>(v[at++]);
+  time_ = v[at++];
+  step_ = v[at++];
+}
+
+}  // namespace narwhal
