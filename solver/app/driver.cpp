@@ -20,9 +20,8 @@
 #include "io/monitors.hpp"
 #include "io/output_directory.hpp"
 #include "io/text_file.hpp"
+#include "app/run_motion.hpp"
 #include "motion/grid_axes.hpp"
-#include "motion/grid_motion.hpp"
-#include "motion/prescribed_motion.hpp"
 #include "io/restart.hpp"
 #include "parallel/communicator.hpp"
 #include "parallel/distribution.hpp"
@@ -206,6 +205,13 @@ struct Monitors {
   bool converged(Real target) const { return drop < target && turb_drop < target; }
 };
 
+// How a physical step's sub-iterations ended.
+struct StepConvergence {
+  int subiterations = 0;
+  Real drop = 1.0;             // |R*| / |R*_0| reached
+  Real coupling_change = 0.0;  // a free body's last velocity change
+};
+
 // One steady run, phase by phase: grids, output directory, restart, solvers, then
 // iterations (step, monitors, convergence, checkpoint) and the final outputs.
 class SteadyRun {
@@ -290,7 +296,7 @@ class SteadyRun {
   void build_solvers() {
     // A moving grid may turn its invariant layers out of their plane (the shortcut is
     // decided once, on the grid as built).
-    if (c_.solver.invariant_shortcut && !c_.motion) {
+    if (c_.solver.invariant_shortcut && !c_.grid_moves()) {
       const std::string note = mark_invariant_directions(g_, field_, fp_);
       if (!note.empty() && root_) fmt::print("narwhal: {}\n", note);
     }
@@ -399,12 +405,13 @@ class SteadyRun {
         dual_time_->begin_step(g_, field_);
         move_grids();
         for (auto& source : fp_.sources) source->at_time(dual_time_->time());
-        const auto [subiterations, drop] = sub_iterate();
+        const StepConvergence done = sub_iterate();
         if (s_.status == RunStatus::Diverged) break;
-        if (steps_) steps_->write(dual_time_->step(), dual_time_->time(), subiterations, drop, forces_);
+        if (steps_) steps_->write(dual_time_->step(), dual_time_->time(), done.subiterations, done.drop, forces_);
+        if (motion_csv_) write_motion_row(done);
         if (c_.output.restart_interval > 0 && dual_time_->step() % c_.output.restart_interval == 0)
           checkpoint(s_.iterations);
-        show_step_progress(subiterations, drop);
+        show_step_progress(done.subiterations, done.drop);
       }
       if (s_.status == RunStatus::MaxIterations) s_.status = RunStatus::Completed;
     } catch (const DivergenceError& e) {
@@ -414,18 +421,23 @@ class SteadyRun {
     close_loop();
   }
 
-  // Every grid the run keeps moves together: each multigrid level (its own GCL, §7.1)
-  // and the case's own blocks when the run computes on pieces of them (the files' layout).
+  // Every grid the run keeps moves together (app/run_motion.hpp): each multigrid level
+  // and the case's own blocks when the run computes on pieces of them (moved last: the
+  // files' layout). A free body starts from the flow's loads on the initial state.
   void prepare_motion() {
-    if (!c_.motion) return;
-    motion_ = std::make_unique<PrescribedMotion>(*c_.motion);
-    auto add = [&](Grid& g) { moving_.push_back(std::make_unique<MovingGrid>(g, motion_->pivot())); };
+    if (!c_.grid_moves()) return;
+    std::vector<Grid*> grids;
     if (mg_)
-      for (int l = 0; l < mg_->levels(); ++l) add(mg_->grid(l));
+      for (int l = 0; l < mg_->levels(); ++l) grids.push_back(&mg_->grid(l));
     else
-      add(g_);
-    if (pieces_) add(whole_);
-    for (auto& m : moving_) m->place_at(motion_->pose(0.0));
+      grids.push_back(&g_);
+    if (pieces_) grids.push_back(&whole_);
+    motion_ = std::make_unique<RunMotion>(c_, grids);
+    measure_forces();
+    motion_->start(body_loads());
+    if (root_ && motion_->free_body())
+      motion_csv_ = std::make_unique<MotionWriter>(file("motion.csv"),
+                                                   continuing_ ? std::optional<int>(info_.time_step) : std::nullopt);
   }
 
   // A dual-time restart continues at step n as if never stopped: the grids placed at
@@ -434,55 +446,81 @@ class SteadyRun {
   void restore_time_levels() {
     if (!opt_.restart || info_.time_step == 0) return;
     const int n = info_.time_step;
-    const Real dt = c_.time.step, t = info_.time;
-    if (motion_)
-      for (auto& m : moving_) m->place_at(motion_->pose(t - dt));
-    dual_time_->restore(g_, restored_previous_, n, t);
-    if (motion_)
-      for (auto& m : moving_)
-        m->move_to(motion_->pose(t), motion_->velocity(t), motion_->angular_velocity(t), dt,
-                   dual_time_->coefficients_of_step(n));
+    if (motion_) motion_->place_at_previous_level(info_, c_.time.step);
+    dual_time_->restore(g_, restored_previous_, n, info_.time);
+    if (motion_) motion_->move_to_present_level(info_, c_.time.step, dual_time_->coefficients_of_step(n));
     restored_previous_ = FlowField{};
   }
 
-  // §6.8 steps 1-2: the grids to the pose of t^{n+1}, their metrics and face speeds.
+  // §6.8 steps 1-2: the grids to the pose of t^{n+1} (a free body's predicted), their
+  // metrics and face speeds.
   void move_grids() {
     if (!motion_) return;
-    const Real t = dual_time_->time();
-    for (auto& m : moving_)
-      m->move_to(motion_->pose(t), motion_->velocity(t), motion_->angular_velocity(t), dual_time_->step_size(),
-                 dual_time_->term().coefficients());
+    const Real dt = dual_time_->step_size();
+    motion_->begin_step(dual_time_->time() - dt, dt, dual_time_->term().coefficients());
+  }
+
+  // The flow's loads on a free body: every wall group's, in grid (earth) axes, about the
+  // body origin, in flow units (the coefficients' reference area and length undone).
+  BodyLoads body_loads() const {
+    const Real area = c_.output.reference_area, length = c_.output.reference_length;
+    const Vec3 arm = moment_centre() - motion_->origin();
+    BodyLoads total;
+    for (const auto& [name, fc] : forces_) {
+      const Vec3 f = 0.5 * area * fc.force;
+      total.force += f;
+      total.moment += 0.5 * area * length * fc.moment + arm.cross(f);
+    }
+    return total;
+  }
+
+  // The point moments are reported about: the case's, moving with the body.
+  Vec3 moment_centre() const { return motion_ ? motion_->now(c_.output.moment_centre) : c_.output.moment_centre; }
+
+  void write_motion_row(const StepConvergence& done) {
+    const CoupledBody& b = motion_->body();
+    motion_csv_->write(dual_time_->step(), dual_time_->time(), b.state(), b.turn_since_release(b.state()),
+                       b.flow_loads(), done.subiterations, done.coupling_change);
   }
 
   // One physical step's pseudo-time iterations (§6.7): until |R*| / |R*_0| falls below
-  // time.subiteration_drop, at least min and at most max of them. Each iteration's
-  // residual is that of the state entering it. Returns the count and the drop reached.
-  std::pair<int, Real> sub_iterate() {
-    Real first = 0.0, drop = 1.0;
-    int m = 0;
-    while (m < c_.time.max_subiterations) {
+  // time.subiteration_drop, at least min and at most max of them, and, with a free body,
+  // until its motion has converged too (corrected after each, §11.7). Each iteration's
+  // residual is that of the state entering it.
+  StepConvergence sub_iterate() {
+    Real first = 0.0;
+    StepConvergence done;
+    const bool free = motion_ && motion_->free_body();
+    while (done.subiterations < c_.time.max_subiterations) {
       const int it = s_.iterations + 1;
       const Real cfl = c_.time.pseudo_cfl;
       const IterationNorms n = mg_ ? mg_->cycle_with_cfl(cfl) : solver().iterate_with_cfl(cfl);
-      if (++m == 1) first = n.total;
-      drop = first > 0.0 ? n.total / first : 0.0;
+      if (++done.subiterations == 1) first = n.total;
+      done.drop = first > 0.0 ? n.total / first : 0.0;
       monitors_.take_mean_flow(n, first > 0.0 ? first : 1.0);
       if (turb_) monitors_.take_turbulence(coupling_->after_mean_flow_step(cfl));
       measure_forces();
+      if (free)
+        done.coupling_change =
+            motion_->correct(body_loads(), dual_time_->step_size(), dual_time_->term().coefficients());
       if (history_) history_->write(it, elapsed(), monitors_.last, forces_, monitors_.turb_res);
       s_.iterations = it;
-      s_.residual_drop = drop;
-      if (!std::isfinite(n.total) || drop > c_.solver.divergence_factor) {
+      s_.residual_drop = done.drop;
+      if (!std::isfinite(n.total) || done.drop > c_.solver.divergence_factor) {
         s_.status = RunStatus::Diverged;
         s_.message = fmt::format("step {}, iteration {}: residual grew by {:.2e} within the step (limit {:.1e}); "
-                                 "largest at {}", dual_time_->step(), it, drop, c_.solver.divergence_factor,
+                                 "largest at {}", dual_time_->step(), it, done.drop, c_.solver.divergence_factor,
                                  solver().describe_largest_residual());
         break;
       }
-      if (m >= c_.time.min_subiterations && drop < c_.time.subiteration_drop) break;
+      if (done.subiterations >= c_.time.min_subiterations && done.drop < c_.time.subiteration_drop &&
+          motion_coupled(done.coupling_change))
+        break;
     }
-    return {m, drop};
+    return done;
   }
+
+  bool motion_coupled(Real change) const { return !motion_ || motion_->coupled(change); }
 
   void show_step_progress(int subiterations, Real drop) {
     if (!opt_.progress || !root_ || Clock::now() - last_print_ < std::chrono::milliseconds(200)) return;
@@ -523,8 +561,7 @@ class SteadyRun {
 
   void measure_forces() {
     wall_faces(g_, field_, fp_, faces_);
-    forces_ = integrate_forces(g_, faces_, c_.output.reference_area, c_.output.reference_length,
-                               c_.output.moment_centre);
+    forces_ = integrate_forces(g_, faces_, c_.output.reference_area, c_.output.reference_length, moment_centre());
   }
 
   // Residuals down by solver.residual_drop and, when the case asks, forces steady.
@@ -673,7 +710,10 @@ class SteadyRun {
     r.time_step = dual_time_->step();
     r.time = dual_time_->time();
     r.time_step_size = c_.time.step;
-    if (!moving_.empty()) r.reference_extents = moving_.back()->reference_extents();  // the files' layout moves last
+    if (motion_) {
+      r.reference_extents = motion_->reference_extents();
+      r.body_state = motion_->checkpoint();
+    }
     if (previous_.Q.empty()) previous_.allocate_states(g_, c_.initial);
     dual_time_->save_previous(g_, previous_);
     gather_to_root(g_, previous_);
@@ -732,8 +772,8 @@ class SteadyRun {
   std::unique_ptr<DualTime> dual_time_;      // dual-time runs only
   FlowField restored_previous_;              // Q^{n-1} read from a restart, until the time levels take it
   FlowField previous_, whole_previous_;      // Q^{n-1} gathered for restarts (pieces, case layout)
-  std::unique_ptr<PrescribedMotion> motion_;  // a moving grid's motion
-  std::vector<std::unique_ptr<MovingGrid>> moving_;  // every grid that moves with it
+  std::unique_ptr<RunMotion> motion_;         // a moving grid's motion (and the grids that move)
+  std::unique_ptr<MotionWriter> motion_csv_;  // the root's motion.csv (free bodies)
   std::unique_ptr<StepsWriter> steps_;       // the root's steps.csv (dual-time runs)
   std::map<std::string, ForceCoefficients> forces_;
   std::map<std::string, std::vector<WallFace>> faces_;  // reused every iteration

@@ -68,8 +68,8 @@ State ghost_value(const Patch& p, const State& qm, const State& qb, const Vec3& 
     case BcType::Wall:  // §5.1: u_g = 2 u_w - u_m, p_g = p_m
       g.tail<3>() = 2.0 * u_wall - qm.tail<3>();
       break;
-    case BcType::Symmetry:  // §5.4: mirror the velocity, even pressure
-      g.tail<3>() = qm.tail<3>() - 2.0 * n.dot(qm.tail<3>()) * n;
+    case BcType::Symmetry:  // §5.4: mirror the velocity relative to the plane's, even pressure
+      g.tail<3>() = qm.tail<3>() - 2.0 * n.dot(qm.tail<3>() - u_wall) * n;
       break;
     default:
       if (is_state_bc(p.type)) g = 2.0 * qb - qm;
@@ -116,7 +116,12 @@ void fill_ghosts(Grid& g, FlowField& f, const FlowParams& fp) {
       // Dirichlet (verification) ghosts take the exact solution at the ghost
       // centre: the extrapolated 2 Q_b - Q_m would make the boundary viscous
       // gradient one-sided and cost accuracy in the boundary cells.
-      const Vec3 u_wall = p.type == BcType::Wall ? wall_velocity(b, p, boundary_face_index(b, p.side, c)) : Vec3::Zero();
+      // A slip wall (a body's surface) moving with the grid: its normal speed -k_t,o / |S|
+      // (§2.4). A symmetry plane stays a mirror of the absolute velocity.
+      const bool moving_slip_wall = p.type == BcType::Symmetry && p.body_surface && b.motion.moving;
+      const Vec3 u_wall = p.type == BcType::Wall ? wall_velocity(b, p, boundary_face_index(b, p.side, c))
+                          : moving_slip_wall     ? Vec3((-o.kt / o.S.norm()) * n)
+                                                 : Vec3::Zero();
       Q(gc) = p.type == BcType::Dirichlet ? fp.exact(b.xc(gc)) : ghost_value(p, Q(cm), qb, n, u_wall);
       nu(gc) = nu(cm);
     });

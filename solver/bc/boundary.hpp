@@ -35,7 +35,9 @@ State boundary_state(const Patch& p, const State& q1, const FaceGeom& outward, c
 Vec3 wall_velocity(const Block& b, const Patch& p, const Index3& f);
 
 // Ghost values of depth m for a non-interface patch, from interior Q_m (and Q_b / n);
-// u_wall: a wall's velocity (wall_velocity).
+// u_wall: a wall's velocity (wall_velocity); for a slip wall, the velocity it moves
+// with along its normal (the mirror is taken relative to it, so that a moving slip wall
+// lets no fluid through; a symmetry plane's is zero).
 State ghost_value(const Patch& p, const State& qm, const State& qb, const Vec3& unit_normal,
                   const Vec3& u_wall = Vec3::Zero());
 

@@ -1,5 +1,6 @@
 #include "config/case_config.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -237,12 +238,81 @@ void read_time(const ConfigReader& r, CaseConfig& c) {
     r.error("time.scheme", "a flow-rate-controlled body force (flow.bulk_velocity) is for steady runs");
 }
 
-// [motion] (motion/prescribed_motion.hpp). After read_time: a moving grid needs physical time.
+// [motion] type = "free": mass properties, initial state, held degrees of freedom and
+// the coupling's settings (motion/coupled_body.hpp). A case in SI units gives the
+// fluid's density and the run's reference length and speed, and is converted to the
+// flow's units (mass / (rho L^3), inertia / (rho L^5), lengths / L, g L / U^2).
+void read_free_body(const ConfigReader& r, CaseConfig& c) {
+  FreeBodySpec f;
+  const std::string units = r.string_or("motion.units", "nondimensional", "the units of the body's properties");
+  Real rho = 1.0, length = 1.0, speed = 1.0;
+  if (units == "SI") {
+    rho = r.number("motion.fluid_density", "the fluid's density in kg/m^3", Range::positive());
+    length = r.number("motion.reference_length", "the run's reference length L in m", Range::positive());
+    speed = r.number("motion.reference_speed", "the run's reference speed U in m/s", Range::positive());
+  } else if (units != "nondimensional") {
+    r.error("motion.units", "expected \"nondimensional\" or \"SI\", got '" + units + "'");
+  }
+  const std::string unit_mass = units == "SI" ? " in kg" : "", unit_length = units == "SI" ? " in m" : "";
+  MassProperties& m = f.mass;
+  m.mass = r.number("motion.mass", "the body's mass" + unit_mass, Range::positive()) / (rho * std::pow(length, 3));
+  const Real volume = r.number("motion.displaced_volume", "the volume of fluid the body displaces" +
+                                   std::string(units == "SI" ? " in m^3" : ""), Range::at_least(0.0)) / std::pow(length, 3);
+  const Vec3 moments = r.vec3("motion.inertia", "the moments of inertia about O, body axes (I_x, I_y, I_z)" +
+                                  std::string(units == "SI" ? " in kg m^2" : ""), Range::positive());
+  const Vec3 products = r.vec3_or("motion.products_of_inertia", Vec3::Zero(), "the products of inertia (I_xy, I_xz, I_yz)");
+  const Real inertia_scale = rho * std::pow(length, 5);
+  m.inertia_o << moments[0], -products[0], -products[1], -products[0], moments[1], -products[2], -products[1],
+      -products[2], moments[2];
+  m.inertia_o /= inertia_scale;
+  m.r_g = r.vec3_or("motion.centre_of_gravity", Vec3::Zero(), "the centre of gravity relative to O, body axes" + unit_length) / length;
+  m.r_b = r.vec3_or("motion.centre_of_buoyancy", Vec3::Zero(), "the centre of buoyancy relative to O, body axes" + unit_length) / length;
+  const Vec3 gravity = r.vec3_or("motion.gravity", Vec3::Zero(), "the acceleration of gravity, grid axes" +
+                                     std::string(units == "SI" ? " in m/s^2" : "")) * (length / (speed * speed));
+  const Real g = gravity.norm();
+  if (g > 0.0) m.down = gravity / g;
+  m.weight = m.mass * g;
+  m.buoyancy = volume * g;  // fluid density 1
+  const std::vector<std::string> names{"surge", "sway", "heave", "roll", "pitch", "yaw"};
+  const std::vector<std::string> free = r.strings_or("motion.free", names, "the free degrees of freedom (body axes)");
+  f.options.free.fill(false);
+  for (const std::string& n : free) {
+    const auto it = std::find(names.begin(), names.end(), n);
+    if (it == names.end())
+      r.error("motion.free", "expected some of surge, sway, heave, roll, pitch, yaw; got '" + n + "'");
+    f.options.free[it - names.begin()] = true;
+  }
+  if (r.has("motion.added_mass_estimate")) {
+    const std::vector<Real> a = r.numbers("motion.added_mass_estimate",
+                                          "the added-mass estimate's diagonal (surge ... yaw, body axes, flow units)", 6,
+                                          Range::at_least(0.0));
+    for (int d = 0; d < 6; ++d) f.options.added_mass_estimate(d, d) = a[d];
+  }
+  f.coupling.relaxation = r.number_or("motion.relaxation", f.coupling.relaxation,
+                                      "the under-relaxation of the body's state per correction", Range::between(0.01, 1.0));
+  f.coupling.tolerance = r.number_or("motion.coupling_tolerance", f.coupling.tolerance,
+                                     "the velocity change below which a step's motion has converged", Range::positive());
+  f.origin = r.vec3_or("motion.origin", f.origin, "the body origin O in grid coordinates" + unit_length) / length;
+  f.velocity = r.vec3_or("motion.velocity", f.velocity, "the initial velocity of O, grid axes") / speed;
+  f.angular_velocity = r.vec3_or("motion.angular_velocity", f.angular_velocity,
+                                 "the initial angular velocity, grid axes (rad per unit time)") * (length / speed);
+  try {
+    RigidBodyEquations check(f.mass, f.options);  // names an unphysical property
+  } catch (const Error& e) {
+    r.error("motion.inertia", e.what());
+  }
+  c.free_body = f;
+}
+
+// [motion] (motion/prescribed_motion.hpp, motion/coupled_body.hpp). After read_time: a
+// moving grid needs physical time.
 void read_motion(const ConfigReader& r, CaseConfig& c) {
   if (!r.has("motion")) return;
-  const std::string type = r.string("motion.type", "how the grid moves: prescribed");
-  if (type != "prescribed") r.error("motion.type", "expected \"prescribed\", got '" + type + "'");
+  const std::string type = r.string("motion.type", "how the grid moves: prescribed or free");
+  if (type != "prescribed" && type != "free")
+    r.error("motion.type", "expected \"prescribed\" or \"free\", got '" + type + "'");
   if (!c.time.unsteady()) r.error("motion.type", "a moving grid needs physical time: add a [time] table");
+  if (type == "free") return read_free_body(r, c);
   PrescribedMotionSpec m;
   m.pivot = r.vec3_or("motion.pivot", m.pivot, "the point rotations are about, in grid axes");
   m.velocity = r.vec3_or("motion.velocity", m.velocity, "the constant translation velocity");

@@ -12,6 +12,7 @@
 #include "mesh/body_of_revolution.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/setup.hpp"
+#include "motion/coupled_body.hpp"
 #include "motion/prescribed_motion.hpp"
 #include "multigrid/fas.hpp"
 #include "physics/flow.hpp"
@@ -95,6 +96,18 @@ struct OutputConfig {
   Vec3 moment_centre = Vec3::Zero();
 };
 
+// [motion] type = "free": the body's own equations (NUMERICS §11) coupled to the flow
+// (motion/coupled_body.hpp). Everything in the flow's units (fluid density 1, lengths
+// in L, velocities in U, NUMERICS §0.2) once read: a case in SI units is converted.
+struct FreeBodySpec {
+  MassProperties mass;
+  AccelerationOptions options;
+  CouplingSettings coupling;
+  Vec3 origin = Vec3::Zero();            // O in grid coordinates at t = 0 (moments are taken about it)
+  Vec3 velocity = Vec3::Zero();          // of O at t = 0, grid axes
+  Vec3 angular_velocity = Vec3::Zero();  // at t = 0, grid axes
+};
+
 struct CaseConfig {
   std::string file, text, title;
   GridConfig grid;
@@ -107,7 +120,9 @@ struct CaseConfig {
   std::vector<PeriodicConfig> periodic;
   SolverConfig solver;
   TimeConfig time;
-  std::optional<PrescribedMotionSpec> motion;  // [motion]: the grid moves (dual-time runs)
+  std::optional<PrescribedMotionSpec> motion;  // [motion] prescribed: the grid moves (dual-time runs)
+  std::optional<FreeBodySpec> free_body;       // [motion] free: it moves as the body's equations say
+  bool grid_moves() const { return motion.has_value() || free_body.has_value(); }
   OutputConfig output;
   TurbulenceSettings turbulence;
   Vec3 body_force = Vec3::Zero();  // constant momentum source per unit volume (drives periodic ducts)

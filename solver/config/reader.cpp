@@ -192,19 +192,41 @@ bool ConfigReader::boolean_or(const std::string& key, bool fallback, const std::
   error(key, std::string("expected ") + what + " (true or false), got " + type_name(*n));
 }
 
-Vec3 ConfigReader::vec3(const std::string& key, const std::string& what, const Range& range) const {
+std::vector<Real> ConfigReader::numbers(const std::string& key, const std::string& what, std::size_t count,
+                                       const Range& range) const {
   const toml::node* n = find(key);
   if (!n) error(key, "missing required key (expected " + what + ")");
   const toml::array* a = n->as_array();
-  if (!a || a->size() != 3) error(key, "expected " + what + " as an array of 3 numbers");
-  Vec3 v;
-  for (int m = 0; m < 3; ++m) {
+  const std::string shape = fmt::format("an array of {} numbers", count);
+  if (!a || a->size() != count) error(key, "expected " + what + " as " + shape);
+  std::vector<Real> v(count);
+  for (std::size_t m = 0; m < count; ++m) {
     auto x = (*a)[m].value<double>();
-    if (!x) error(key, "expected " + what + " as an array of 3 numbers");
+    if (!x) error(key, "expected " + what + " as " + shape);
     if (!std::isfinite(*x)) error(key, fmt::format("expected {}: entry {} is {} (not a finite number)", what, m + 1, *x));
     if (!range.contains(*x))
       error(key, fmt::format("expected {}: entry {} is {}, must be {}", what, m + 1, *x, range.describe()));
     v[m] = *x;
+  }
+  return v;
+}
+
+Vec3 ConfigReader::vec3(const std::string& key, const std::string& what, const Range& range) const {
+  const std::vector<Real> v = numbers(key, what, 3, range);
+  return Vec3(v[0], v[1], v[2]);
+}
+
+std::vector<std::string> ConfigReader::strings_or(const std::string& key, const std::vector<std::string>& fallback,
+                                                  const std::string& what) const {
+  const toml::node* n = find(key);
+  if (!n) return fallback;
+  const toml::array* a = n->as_array();
+  if (!a) error(key, "expected " + what + " as an array of strings");
+  std::vector<std::string> v;
+  for (const auto& e : *a) {
+    auto x = e.value<std::string>();
+    if (!x) error(key, "expected " + what + " as an array of strings");
+    v.push_back(*x);
   }
   return v;
 }

@@ -55,6 +55,11 @@ class ConfigReader {
   std::string string(const std::string& key, const std::string& what) const;
   std::string string_or(const std::string& key, const std::string& fallback, const std::string& what) const;
   bool boolean_or(const std::string& key, bool fallback, const std::string& what) const;
+  // `count` finite numbers, each inside `range`.
+  std::vector<Real> numbers(const std::string& key, const std::string& what, std::size_t count,
+                            const Range& range = {}) const;
+  std::vector<std::string> strings_or(const std::string& key, const std::vector<std::string>& fallback,
+                                      const std::string& what) const;
   // Three finite numbers, each inside `range`.
   Vec3 vec3(const std::string& key, const std::string& what, const Range& range = {}) const;
   Vec3 vec3_or(const std::string& key, const Vec3& fallback, const std::string& what, const Range& range = {}) const;

@@ -101,6 +101,25 @@ void StepsWriter::write(int step, Real time, int subiterations, Real drop,
                "\n");
 }
 
+MotionWriter::MotionWriter(const std::string& path, std::optional<int> resume_after)
+    : file_(path,
+            "step,time,x,y,z,e0,e1,e2,e3,roll_deg,pitch_deg,yaw_deg,u,v,w,p,q,r,X,Y,Z,K,M,N,subiterations,"
+            "coupling_change\n",
+            resume_after) {}
+
+void MotionWriter::write(int step, Real time, const RigidBodyState& s, const EulerAngles& turned, const BodyLoads& flow,
+                         int subiterations, Real coupling_change) {
+  constexpr Real deg = 180.0 / 3.14159265358979323846;
+  std::string row = fmt::format("{},{:.17g}", step, time);
+  for (int m = 0; m < 3; ++m) row += fmt::format(",{:.12e}", s.position()[m]);
+  for (int m = 0; m < 4; ++m) row += fmt::format(",{:.12e}", s.attitude()[m]);
+  row += fmt::format(",{:.9e},{:.9e},{:.9e}", turned.roll * deg, turned.pitch * deg, turned.yaw * deg);
+  for (int m = 0; m < 6; ++m) row += fmt::format(",{:.12e}", s.y[m]);
+  for (int m = 0; m < 3; ++m) row += fmt::format(",{:.9e}", flow.force[m]);
+  for (int m = 0; m < 3; ++m) row += fmt::format(",{:.9e}", flow.moment[m]);
+  file_.append(row + fmt::format(",{},{:.3e}\n", subiterations, coupling_change));
+}
+
 void write_surface_csv(const std::string& path, const std::vector<WallFace>& faces) {
   std::string out = fmt::format(
       "# narwhal {} ({}); one row per wall face; n points into the fluid; cp = 2p, cf = 2 tau_w; "

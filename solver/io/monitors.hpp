@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "implicit/newton.hpp"
+#include "motion/rigid_body.hpp"
 #include "physics/wall_forces.hpp"
 
 namespace narwhal {
@@ -55,6 +56,22 @@ class StepsWriter {
 
  private:
   std::vector<std::string> groups_;
+  AppendedCsv file_;
+};
+
+// motion.csv of a run with a free body (motion/coupled_body.hpp): one row per physical
+// step, at its end. Position of the body origin O (grid coordinates), the quaternion
+// (body -> grid axes), the Euler angles (degrees) of the body's turn from its axes at
+// t = 0 (grid_axes.hpp's: z_B along z; NUMERICS §11.4's ZYX order), the velocities u, v,
+// w, p, q, r in body axes, the flow's force X, Y, Z and moment K, M, N about O in body
+// axes (flow units), the step's sub-iterations and the last correction's velocity change.
+class MotionWriter {
+ public:
+  MotionWriter(const std::string& path, std::optional<int> resume_after);
+  void write(int step, Real time, const RigidBodyState& s, const EulerAngles& turned, const BodyLoads& flow,
+             int subiterations, Real coupling_change);
+
+ private:
   AppendedCsv file_;
 };
 

@@ -58,6 +58,8 @@ struct RestartInfo {
   // A moving grid's blocks are checked against the grid as built: their extents there
   // (empty: the grid written is as built).
   std::vector<std::array<double, 6>> reference_extents{};
+  // A free body's state (CoupledBody::checkpoint; empty: none).
+  std::vector<Real> body_state{};
 };
 
 // Writes atomically (temporary file + rename) so a crash never leaves a torn restart;

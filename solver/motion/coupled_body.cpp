@@ -44,10 +44,27 @@ RigidBodyStep CoupledBody::rk4_pass(const BodyLoads& f_next) {
     const Vec6 extra = ma * stage_acc_[s];
     stage[s] += BodyLoads{extra.head<3>(), extra.tail<3>()};
   }
-  return advance_rk4_stages(body_, y_n_, time_, step_, stage, nullptr, &stage_acc_);
+  RigidBodyStep st = advance_rk4_stages(body_, y_n_, time_, step_, stage, nullptr, &stage_acc_);
+  // The flow's kinematics (see the header): the step's displacement and turn from the
+  // new velocities in earth axes.
+  RigidBodyState& y = st.state;
+  const Mat3 r = rotation_matrix(y.attitude());
+  const Vec3 dx = (step_ * (r * Vec3(y.velocity())) + bdf_.c2 * dx_n_) / bdf_.c0;
+  const Vec3 dphi = (step_ * (r * Vec3(y.angular_velocity())) + bdf_.c2 * dphi_n_) / bdf_.c0;
+  y.position() = Vec3(y_n_.position()) + dx;
+  const Real angle = dphi.norm();
+  const Mat3 turn = angle > 0.0 ? Mat3(Eigen::AngleAxis<Real>(angle, dphi / angle)) : Mat3::Identity();
+  y.attitude() = quaternion_from_rotation(turn * rotation_matrix(y_n_.attitude()));
+  return st;
 }
 
-void CoupledBody::begin_step(Real time, Real step) {
+void CoupledBody::begin_step(Real time, Real step, const BdfCoefficients& c) {
+  // The step that ended: its displacement and turn (the BDF2 kinematics' dx^n, dphi^n).
+  dx_n_ = Vec3(estimate_.position()) - Vec3(y_n_.position());
+  const Eigen::AngleAxis<Real> turned(rotation_matrix(estimate_.attitude()) *
+                                      rotation_matrix(y_n_.attitude()).transpose());
+  dphi_n_ = turned.angle() * turned.axis();
+  bdf_ = c;
   y_n_ = estimate_;
   f_nm1_ = f_n_;
   f_n_ = f_latest_;
@@ -79,6 +96,10 @@ RigidMotionSample CoupledBody::sample(const RigidBodyState& s) const {
   m.velocity = r * Vec3(s.velocity());
   m.angular_velocity = r * Vec3(s.angular_velocity());
   return m;
+}
+
+EulerAngles CoupledBody::turn_since_release(const RigidBodyState& s) const {
+  return euler_from_quaternion(quaternion_from_rotation(initial_rotation_.transpose() * rotation_matrix(s.attitude())));
 }
 
 std::vector<Real> CoupledBody::checkpoint() const {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/error.hpp"
+
 namespace narwhal {
 
 Real hexahedron_volume(const std::array<Vec3, 8>& n) {
@@ -49,6 +51,7 @@ MovingGrid::MovingGrid(Grid& g, const Vec3& pivot) : g_(g), pivot_(pivot) {
     x0_.push_back(b.x);
     previous_x_.push_back(b.x);  // the layout; its values are set by each move
     for (int d = 0; d < 3; ++d) swept_[ib][d] = b.kt[d];  // the face layout, ghosts included
+    swept_n_.push_back(swept_[ib]);
   }
 }
 
@@ -69,21 +72,30 @@ void MovingGrid::place_at(const RigidPose& pose) {
   moved_ = false;
 }
 
-void MovingGrid::move_to(const RigidPose& pose, const Vec3& velocity, const Vec3& angular_velocity, Real dt,
-                         const BdfCoefficients& c) {
-  const RigidVelocity motion{true, velocity, angular_velocity, pivot_ + pose.displacement};
+void MovingGrid::move_to(const RigidMotionSample& m, Real dt, const BdfCoefficients& c, bool new_step) {
+  if (new_step) {
+    // The present nodes and sweeps become t^n's; b.x keeps its layout and is rewritten below.
+    for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+      std::swap(previous_x_[ib], g_.blocks[ib].x);
+      std::swap(swept_n_[ib], swept_[ib]);
+    }
+    have_sweep_n_ = moved_;
+  } else if (!moved_) {
+    fail("MovingGrid: a move within a step needs the step's first move");
+  }
+  const RigidVelocity motion{true, m.velocity, m.angular_velocity, pivot_ + m.pose.displacement};
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
     Block& b = g_.blocks[ib];
     b.motion = motion;
-    std::swap(previous_x_[ib], b.x);  // the nodes of t^n; b.x keeps its layout
     const GhostArray<Vec3>& old = previous_x_[ib];
     auto& x0 = x0_[ib].raw();
     auto& x = b.x.raw();
-    for (std::size_t n = 0; n < x.size(); ++n) x[n] = pose.apply(x0[n], pivot_);
+    for (std::size_t n = 0; n < x.size(); ++n) x[n] = m.pose.apply(x0[n], pivot_);
     compute_metrics(b);
     for (int d = 0; d < 3; ++d) {
       auto& kt = b.kt[d];
       auto& swept = swept_[ib][d];
+      const auto& swept_n = swept_n_[ib][d];
       // Every face whose four nodes exist (the range compute_metrics fills).
       for (int k = -kGhost; k < kt.nk() + kGhost; ++k)
         for (int j = -kGhost; j < kt.nj() + kGhost; ++j)
@@ -93,8 +105,10 @@ void MovingGrid::move_to(const RigidPose& pose, const Vec3& velocity, const Vec3
             for (int t = 0; t < 3; ++t)
               if (t != d && f[t] + 1 > b.n(t) + kGhost) inside = false;
             if (!inside) continue;
-            const Real dv = swept_volume(old, b.x, d, f);
-            kt(f) = -(c.c0 * dv - (moved_ ? c.c2 * swept(f) : 0.0)) / dt;
+            // A collapsed face (a ghost face where extrapolated nodes meet) stays collapsed
+            // under a rigid motion and sweeps nothing: no round-off speed on zero area.
+            const Real dv = b.S[d](f).squaredNorm() > 0.0 ? swept_volume(old, b.x, d, f) : 0.0;
+            kt(f) = -(c.c0 * dv - (have_sweep_n_ ? c.c2 * swept_n(f) : 0.0)) / dt;
             swept(f) = dv;
           }
     }

@@ -48,10 +48,12 @@ class MovingGrid {
   // The grid's present nodes become its reference (pose: identity).
   MovingGrid(Grid& g, const Vec3& pivot);
 
-  // Nodes to `pose`, metrics there, face speeds for a step dt with coefficients c; the
-  // blocks' walls move with `velocity` (of the pivot) and `angular_velocity` (§5.1).
-  void move_to(const RigidPose& pose, const Vec3& velocity, const Vec3& angular_velocity, Real dt,
-               const BdfCoefficients& c);
+  // Nodes to the pose of t^{n+1}, metrics there, face speeds for a step dt with
+  // coefficients c; the blocks' walls move with the sample's velocity (of the pivot) and
+  // angular velocity (§5.1). A step's first move (new_step) starts from the present
+  // nodes (t^n); a free body's corrections move again within the step (new_step false),
+  // from the same t^n.
+  void move_to(const RigidMotionSample& m, Real dt, const BdfCoefficients& c, bool new_step = true);
 
   // Nodes to the pose the motion starts from, metrics there; the first step's sweep
   // starts here (no face speeds: nothing has moved yet).
@@ -67,8 +69,10 @@ class MovingGrid {
   Vec3 pivot_;
   std::vector<GhostArray<Vec3>> x0_;                   // reference nodes per block
   std::vector<GhostArray<Vec3>> previous_x_;           // the nodes before the last move
-  std::vector<std::array<GhostArray<Real>, 3>> swept_;  // dV of the last step per face
-  bool moved_ = false;
+  std::vector<std::array<GhostArray<Real>, 3>> swept_;   // dV^{n+1} per face, of the step under way
+  std::vector<std::array<GhostArray<Real>, 3>> swept_n_;  // dV^n, the step before
+  bool moved_ = false;        // a move since the grid was placed
+  bool have_sweep_n_ = false;  // dV^n known (the step under way is not the first since placed)
 };
 
 }  // namespace narwhal

@@ -44,6 +44,7 @@ class PrescribedMotion {
   RigidPose pose(Real t) const;
   Vec3 velocity(Real t) const;          // of the pivot
   Vec3 angular_velocity(Real t) const;  // in grid axes
+  RigidMotionSample sample(Real t) const { return {pose(t), velocity(t), angular_velocity(t)}; }
   const Vec3& pivot() const { return s_.pivot; }
 
  private:

@@ -58,7 +58,8 @@ NARWHAL_INLINE AcousticData<T> acoustic_data(const T& ux, const T& uy, const T& 
   // §3.6 guard: acoustic and convective eigenvalues must stay distinct (§3.3).
   if (std::abs(real_part(a.lp - a.theta)) < 1e-8 * real_part(a.c) ||
       std::abs(real_part(a.lm - a.theta)) < 1e-8 * real_part(a.c))
-    fail("Roe flux: hyperbolicity condition beta > (v_g.n)^2/4 violated (NUMERICS §3.3); increase beta");
+    fail("Roe flux: hyperbolicity condition beta > (v_g.n)^2/4 violated (NUMERICS §3.3); increase beta "
+         "(face: |S|^2 = {:.3e}, k_t = {:.3e})", real_part(a.S2), real_part(f.kt));
   return a;
 }
 

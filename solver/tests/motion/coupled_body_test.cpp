@@ -42,7 +42,7 @@ CoupledBody released(Real relaxation, const Mat6& estimate = Mat6::Zero()) {
 
 // The changes each correction makes in one step, for `iterations` corrections.
 std::vector<Real> changes_in_first_step(CoupledBody& b, const ModelFluid& fluid, Real dt, int iterations) {
-  b.begin_step(0.0, dt);
+  b.begin_step(0.0, dt, BdfCoefficients::bdf1());
   std::vector<Real> c;
   for (int m = 0; m < iterations; ++m) c.push_back(b.correct(fluid.force_on(b, dt)));
   return c;
@@ -68,7 +68,7 @@ TEST(CoupledBody, ConvergedCouplingFallsWithTheAddedMassAndReachesTerminalVeloci
   const Real tau = 1.5, dt = tau / 400.0;
   Real t = 0.0;
   for (int n = 0; n < 1200; ++n) {
-    b.begin_step(t, dt);
+    b.begin_step(t, dt, n == 0 ? BdfCoefficients::bdf1() : BdfCoefficients::bdf2(1.0));
     for (int m = 0; m < 50 && !b.converged(b.correct(fluid.force_on(b, dt))); ++m) {
     }
     t += dt;
@@ -132,10 +132,29 @@ TEST(CoupledBody, TheEstimateDoesNotChangeTheConvergedMotion) {
   Real t = 0.0;
   for (int n = 0; n < 20; ++n, t += 0.05)
     for (CoupledBody* b : {&plain, &preconditioned}) {
-      b->begin_step(t, 0.05);
+      b->begin_step(t, 0.05, n == 0 ? BdfCoefficients::bdf1() : BdfCoefficients::bdf2(1.0));
       for (int m = 0; m < 100; ++m) b->correct(fluid.force_on(*b, 0.05));
     }
   EXPECT_LT((plain.state().y - preconditioned.state().y).norm(), 1e-13);
+}
+
+TEST(CoupledBody, TheGridsFaceSpeedsAreTheBodysVelocities) {
+  // coupled_body.hpp: the BDF derivative of the origin's positions (the speed the swept
+  // volumes give the grid's faces) is the body's velocity at t^{n+1}, step by step.
+  const ModelFluid fluid{0.5, 1.0};
+  MassProperties mp = falling_sphere();
+  mp.down = Vec3(0.6, 0.0, -0.8);
+  CoupledBody b(mp, {}, body_state_at_release(Vec3::Zero(), Vec3(0.2, 0.0, 0.0), Vec3(0.0, 0.3, 0.1)), {});
+  std::vector<Vec3> x{Vec3(b.state().position())};
+  const Real dt = 0.05;
+  for (int n = 0; n < 8; ++n) {
+    const BdfCoefficients c = n == 0 ? BdfCoefficients::bdf1() : BdfCoefficients::bdf2(1.0);
+    b.begin_step(n * dt, dt, c);
+    for (int m = 0; m < 30; ++m) b.correct(fluid.force_on(b, dt));
+    x.push_back(Vec3(b.state().position()));
+    const Vec3 rate = (c.c0 * x[n + 1] + c.c1 * x[n] + (n > 0 ? Vec3(c.c2 * x[n - 1]) : Vec3::Zero())) / dt;
+    EXPECT_LT((rate - b.sample(b.state()).velocity).norm(), 1e-12) << "step " << n + 1;  // round-off over dt
+  }
 }
 
 TEST(CoupledBody, HeldDegreesOfFreedomKeepTheirVelocity) {
@@ -147,7 +166,7 @@ TEST(CoupledBody, HeldDegreesOfFreedomKeepTheirVelocity) {
   mp.inertia_o += mp.mass * (mp.r_g.squaredNorm() * Mat3::Identity() - mp.r_g * mp.r_g.transpose());
   CoupledBody b(mp, o, body_state_at_release(Vec3::Zero(), Vec3(0.0, 0.0, 0.3), Vec3::Zero()), {});
   for (int n = 0; n < 10; ++n) {
-    b.begin_step(0.01 * n, 0.01);
+    b.begin_step(0.01 * n, 0.01, BdfCoefficients::bdf1());
     b.correct(BodyLoads{});
   }
   EXPECT_EQ(b.state().velocity()[2], 0.3);         // z_B = z: heave kept
@@ -159,7 +178,7 @@ TEST(CoupledBody, ARestoredBodyContinuesBitForBit) {
   const ModelFluid fluid{0.5, 1.0};
   auto run = [&](CoupledBody& b, int from, int to) {
     for (int n = from; n < to; ++n) {
-      b.begin_step(0.05 * n, 0.05);
+      b.begin_step(0.05 * n, 0.05, n == 0 ? BdfCoefficients::bdf1() : BdfCoefficients::bdf2(1.0));
       for (int m = 0; m < 4; ++m) b.correct(fluid.force_on(b, 0.05));
     }
   };

@@ -87,7 +87,7 @@ Real face_speed_error(TimeConfig::Scheme scheme, Real dt) {
   const int steps = static_cast<int>(std::lround(T / dt));
   for (int s = 1; s <= steps; ++s) {
     const bool bdf2 = scheme == TimeConfig::Scheme::Bdf2 && s > 1;
-    moving.move_to(pose_at(s * dt), Vec3::Zero(), Vec3::Zero(), dt, bdf2 ? BdfCoefficients::bdf2(1.0) : BdfCoefficients::bdf1());
+    moving.move_to(RigidMotionSample{pose_at(s * dt)}, dt, bdf2 ? BdfCoefficients::bdf2(1.0) : BdfCoefficients::bdf1());
   }
   const Block before = moved_copy(reference, pose_at(T - h)), after = moved_copy(reference, pose_at(T + h));
   Real worst = 0.0;
@@ -148,7 +148,7 @@ TEST(GridMotion, DiscreteGclHoldsInEveryCellWithBdf2) {
   for (int s = 1; s <= 4; ++s) {
     time.begin_step(g, f);
     const BdfCoefficients& bdf = time.term().coefficients();
-    moving.move_to(pose_at(s * tc.step), Vec3::Zero(), Vec3::Zero(), tc.step, bdf);
+    moving.move_to(RigidMotionSample{pose_at(s * tc.step)}, tc.step, bdf);
     std::size_t n = 0;
     for (const Block& b : g.blocks)
       for_each_cell(b, [&](int i, int j, int k) {
@@ -195,7 +195,7 @@ void expect_free_stream_preserved(int multigrid_levels) {
   const Real inf = std::numeric_limits<Real>::infinity();
   for (int s = 1; s <= tc.steps; ++s) {
     time.begin_step(g, f);
-    for (auto& m : moving) m->move_to(pose_at(s * tc.step), Vec3::Zero(), Vec3::Zero(), tc.step, time.term().coefficients());
+    for (auto& m : moving) m->move_to(RigidMotionSample{pose_at(s * tc.step)}, tc.step, time.term().coefficients());
     EXPECT_LT(top.evaluate_residual().total, 1e-12) << "step " << s;
     for (int m = 0; m < 3; ++m) mg ? mg->cycle_with_cfl(inf) : single->iterate_with_cfl(inf);
     Real change = 0.0;

@@ -81,7 +81,7 @@ std::vector<State> solve(TimeConfig::Scheme scheme, int steps) {
   const Real inf = std::numeric_limits<Real>::infinity();
   for (int s = 1; s <= steps; ++s) {
     time.begin_step(g, f);
-    moving.move_to(pose_at(s * dt), Vec3::Zero(), Vec3::Zero(), dt, time.term().coefficients());
+    moving.move_to(RigidMotionSample{pose_at(s * dt)}, dt, time.term().coefficients());
     *time_now = time.time();
     source->at_time(time.time());
     test::converge_step([&] { return solver.iterate_with_cfl(inf); }, 1e-11, 80);
