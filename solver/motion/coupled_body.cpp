@@ -38,8 +38,13 @@ RigidBodyStep CoupledBody::rk4_pass(const BodyLoads& f_next) {
   // §11.6's interpolation of the flow loads, each stage plus M_A times its acceleration
   // of the previous pass (§11.7's preconditioner; nothing when M_A = 0).
   const Mat6& ma = body_.options().added_mass_estimate;
-  const BodyLoads f_mid = 0.5 * (f_n_ + f_next);
-  std::array<BodyLoads, 4> stage{f_n_, f_mid, f_mid, f_next};
+  // The first step after release takes its end's loads throughout: releasing makes the
+  // accelerations, and with them the added-mass part of the loads, jump at t^0, which
+  // an interpolation from F^0 would smear over the step (a body started impulsively
+  // would keep half its momentum too much).
+  const BodyLoads& f_start = steps_ == 1 ? f_next : f_n_;
+  const BodyLoads f_mid = 0.5 * (f_start + f_next);
+  std::array<BodyLoads, 4> stage{f_start, f_mid, f_mid, f_next};
   for (int s = 0; s < 4; ++s) {
     const Vec6 extra = ma * stage_acc_[s];
     stage[s] += BodyLoads{extra.head<3>(), extra.tail<3>()};

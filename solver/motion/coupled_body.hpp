@@ -2,7 +2,8 @@
 // A free body driven by a dual-time flow solution, strongly coupled (NUMERICS §11.6,
 // §11.7). Each physical step
 //   * begin_step: predicts y^{n+1} by RK4 from y^n with the flow loads extrapolated,
-//     F^{n+1,*} = 2 F^n - F^{n-1} (F^n at the first step);
+//     F^{n+1,*} = 2 F^n - F^{n-1} (F^n at the first step; the first step's stages all
+//     take F^{n+1,*}: the loads jump at release);
 //   * correct, after each of the flow's sub-iterations: redoes the RK4 step from y^n
 //     with the flow's latest loads F^{n+1,m} and under-relaxes,
 //       y^{n+1,m+1} = y^{n+1,m} + omega_b (y_RK4 - y^{n+1,m});
@@ -24,13 +25,14 @@
 // converged iteration solves the unmodified equations (§11.7's preconditioner).
 //
 // Stability of the iteration, measured against a fluid force -m_a (V^{n+1} - V^n)/dt
-// that answers the estimate at once (tests/motion/coupled_body_test.cpp): the RK4
-// stages take F^{n+1,*} with total weight h/2, so without an estimate an iterate's
-// error is multiplied by 1 - omega_b (1 + m_a / (2 m)) per correction: stable for
-// omega_b < 2 / (1 + m_a / (2 m)), i.e. m_a / m < 2 at omega_b = 1 (a neutrally buoyant
-// sphere has 0.5, a 6:1 spheroid broadside 0.96). With the estimate M_A = m_a the
-// factor is m_a / (2 (m + m_a)) < 1/2 for any mass ratio. A flow's force answers a
-// BDF2 step more strongly (by 3/2): the limits scale accordingly.
+// that answers the estimate at once (tests/motion/coupled_body_test.cpp): an iterate's
+// error is multiplied by 1 - omega_b (1 + w m_a / m) per correction, w the weight the
+// RK4 stages give F^{n+1,*}: 1/2 in a step (stable for omega_b < 2 / (1 + m_a / (2 m)),
+// m_a / m < 2 at omega_b = 1), 1 in the first step after release (m_a / m < 1 at
+// omega_b = 1). A neutrally buoyant sphere has m_a / m = 0.5, a 6:1 spheroid broadside
+// 0.96. With the estimate M_A = m_a the first step converges at once and the factor
+// after it is m_a / (2 (m + m_a)) < 1/2, whatever the mass ratio. A flow's force
+// answers a BDF2 step more strongly (by 3/2): the limits scale accordingly.
 
 // Frames: earth axes are the grid's axes as built; the body's axes at t = 0 those of
 // motion/grid_axes.hpp (x_B = -x, y_B = -y, z_B = z), so that the grid as built is the
