@@ -23,6 +23,15 @@ def _munk_moment(ref, p):
     return 2.0 * (k2 - k1) * volume * math.sin(a) * math.cos(a) / (p["area_ref"] * p["length_ref"])
 
 
+def _release_acceleration(ref, p):
+    rows = ref.rows_where({"AR_a_over_b": p["ratio"]})
+    if len(rows) != 1:
+        raise HarnessError(f"release_acceleration: {len(rows)} rows of aspect ratio {p['ratio']}, expected one")
+    k = float(ref.column("k2_lateral" if p.get("lateral", 0.0) else "k1_axial", rows)[0])
+    r = p["density_ratio"]
+    return (r - 1.0) / (r + k)
+
+
 def _potential_flow_cp(ref):
     """Cp(x/L) of potential flow about a body of revolution given by its offsets (columns
     x_over_LOA, r_over_LOA from nose to tail, suboff_hull_offsets.csv): a panel on each
@@ -46,6 +55,10 @@ DERIVED = {
     "munk_moment": lambda ref, p: _munk_moment(ref, p),
     # inviscid surface pressure of a body of revolution at zero incidence
     "potential_flow_cp": lambda ref, p: _potential_flow_cp(ref),
+    # A body released from rest in still fluid: its acceleration over g, (r - 1) / (r + k),
+    # r the density ratio, k Lamb's added-mass coefficient along the fall (k1 with the axis
+    # vertical, lateral = 0; k2 across it, lateral = 1) from the row of the aspect ratio.
+    "release_acceleration": lambda ref, p: _release_acceleration(ref, p),
     # u/U_e = f'(eta)
     "blasius_profile": lambda ref, p: Curve(ref.column("eta"), ref.column("fp"), "Blasius f'(eta)"),
 }

@@ -1,0 +1,139 @@
+"""Extractors of dual-time runs on moving grids: steps.csv (one row per physical step) and
+motion.csv (a free body's path). Registered in schema.EXTRACT like the others."""
+import math
+
+import numpy as np
+
+from .errors import HarnessError
+from .schema import extractor
+
+TRANSLATIONS = ("x", "y", "z")
+
+
+def _steps(ctx, run_id):
+    from .extract import read_csv  # the one CSV reader (extract imports this module)
+    t = read_csv(ctx.run_dir(run_id) / "steps.csv")
+    if t["time"].size == 0:
+        raise HarnessError(f"steps.csv of '{run_id}' has no rows")
+    return t
+
+
+def _translation(ctx, run_id):
+    """The one translational [[motion.oscillation]] of a run: (axis, amplitude, w, phase rad)."""
+    motion = ctx.inputs[run_id].get("motion", {})
+    found = [o for o in motion.get("oscillation", []) if o.get("dof") in TRANSLATIONS]
+    if motion.get("type") != "prescribed" or len(found) != 1 or len(motion["oscillation"]) != 1:
+        raise HarnessError(f"oscillation_force: run '{run_id}' needs [motion] type = \"prescribed\" with exactly "
+                           "one [[motion.oscillation]], a translation (dof x, y or z)")
+    o = found[0]
+    return o["dof"], float(o["amplitude"]), float(o["angular_frequency"]), math.radians(float(o.get("phase", 0.0)))
+
+
+@extractor("oscillation_force", "part", "periods", "group", "radius")
+def oscillation_force(ctx, spec, run_id):
+    """The force on a sphere in prescribed translational oscillation, split into the part in
+    phase with its velocity (part = "drag": A / (6 pi mu R)) and the part in phase with its
+    acceleration (part = "mass": B / (rho V / 2)), where the force on the body is
+    -(A u + B du/dt) + const, fitted by least squares over the last `periods` periods of
+    steps.csv. Flow units: rho = 1, mu = 1 / Re; the force is the coefficient times
+    1/2 A_ref (output.reference_area)."""
+    part = spec.get("part")
+    if part not in ("drag", "mass"):
+        raise HarnessError(f"oscillation_force: part must be \"drag\" or \"mass\", got {part!r}")
+    axis, amplitude, omega, phase = _translation(ctx, run_id)
+    periods = float(spec.get("periods", 2))
+    group = spec.get("group", "body")
+    radius = float(spec.get("radius", 0.5))
+    steps = _steps(ctx, run_id)
+    column = f"{group}_cf{axis}"
+    if column not in steps:
+        raise HarnessError(f"steps.csv of '{run_id}' has no column '{column}' (columns: {', '.join(steps)})")
+    t = steps["time"]
+    window = t >= t[-1] - periods * 2.0 * math.pi / omega - 1e-12 * t[-1]
+    if t[-1] * omega / (2.0 * math.pi) < periods + 1.0 or np.count_nonzero(window) < 8 * periods:
+        raise HarnessError(f"oscillation_force: run '{run_id}' covers {t[-1] * omega / (2 * math.pi):.2f} periods in "
+                           f"{t.size} steps; the fit needs {periods:g} after the first, 8 steps or more each")
+    # Displacement amplitude sin(w t + phase): velocity and acceleration.
+    u = amplitude * omega * np.cos(omega * t[window] + phase)
+    du = -amplitude * omega ** 2 * np.sin(omega * t[window] + phase)
+    area = float(ctx.input_value(run_id, "output.reference_area"))
+    force = steps[column][window] * 0.5 * area
+    design = np.column_stack([u, du, np.ones_like(u)])
+    (a, b, _), *_ = np.linalg.lstsq(design, force, rcond=None)
+    reynolds = float(ctx.input_value(run_id, "flow.reynolds"))
+    if part == "drag":
+        return float(-a / (6.0 * math.pi * radius / reynolds))
+    return float(-b / (0.5 * 4.0 / 3.0 * math.pi * radius ** 3))
+
+
+def _motion(ctx, run_id):
+    from .extract import read_csv
+    t = read_csv(ctx.run_dir(run_id) / "motion.csv")
+    if t["time"].size == 0:
+        raise HarnessError(f"motion.csv of '{run_id}' has no rows")
+    return t
+
+
+def _earth_velocity(m):
+    """The body origin's velocity in earth axes, R(e) (u, v, w) (NUMERICS §11.3), per row."""
+    e0, e1, e2, e3 = (m[k] for k in ("e0", "e1", "e2", "e3"))
+    u, v, w = m["u"], m["v"], m["w"]
+    return np.column_stack([
+        (1 - 2 * (e2 * e2 + e3 * e3)) * u + 2 * (e1 * e2 - e0 * e3) * v + 2 * (e1 * e3 + e0 * e2) * w,
+        2 * (e1 * e2 + e0 * e3) * u + (1 - 2 * (e1 * e1 + e3 * e3)) * v + 2 * (e2 * e3 - e0 * e1) * w,
+        2 * (e1 * e3 - e0 * e2) * u + 2 * (e2 * e3 + e0 * e1) * v + (1 - 2 * (e1 * e1 + e2 * e2)) * w,
+    ])
+
+
+def _gravity(ctx, run_id):
+    """The free body's gravity in earth axes (the body axes at release, x_B = -x, y_B = -y,
+    z_B = z of the grid: motion/grid_axes.hpp): (unit vector, magnitude)."""
+    motion = ctx.inputs[run_id].get("motion", {})
+    if motion.get("type") != "free" or "gravity" not in motion:
+        raise HarnessError(f"run '{run_id}' needs [motion] type = \"free\" with a gravity vector")
+    g = np.array([-float(motion["gravity"][0]), -float(motion["gravity"][1]), float(motion["gravity"][2])])
+    size = float(np.linalg.norm(g))
+    if size == 0.0:
+        raise HarnessError(f"run '{run_id}': [motion] gravity is zero")
+    return g / size, size
+
+
+@extractor("fall_velocity", "part", "window")
+def fall_velocity(ctx, spec, run_id):
+    """A falling body's velocity over the last `window` time units of motion.csv, averaged:
+    part = "vertical" (against gravity: negative when falling, as Uhlmann & Dusek quote it),
+    "horizontal" (its magnitude) or "angle" (of the path from the vertical, degrees)."""
+    part = spec.get("part")
+    if part not in ("vertical", "horizontal", "angle"):
+        raise HarnessError(f"fall_velocity: part must be vertical, horizontal or angle, got {part!r}")
+    m = _motion(ctx, run_id)
+    down, _ = _gravity(ctx, run_id)
+    window = float(spec.get("window", 5.0))
+    last = m["time"] >= m["time"][-1] - window
+    if m["time"][-1] < 2.0 * window:
+        raise HarnessError(f"fall_velocity: run '{run_id}' ends at t = {m['time'][-1]:g}, before twice the window {window:g}")
+    v = _earth_velocity(m)[last]
+    along = v @ down
+    across = float(np.mean(np.linalg.norm(v - np.outer(along, down), axis=1)))
+    if part == "vertical":
+        return float(-np.mean(along))
+    if part == "horizontal":
+        return across
+    return math.degrees(math.atan2(across, float(np.mean(along))))
+
+
+@extractor("release_acceleration", "steps")
+def release_acceleration(ctx, spec, run_id):
+    """A body released from rest: its acceleration along gravity at t = 0+, over g. The fall
+    velocity over its first `steps` steps is fitted as a0 t - c t^(3/2) (the viscous history
+    force grows as sqrt(t) from release, Basset), and a0 / g returned."""
+    m = _motion(ctx, run_id)
+    down, g = _gravity(ctx, run_id)
+    n = int(spec.get("steps", 8))
+    if m["time"].size < n or n < 3:
+        raise HarnessError(f"release_acceleration: run '{run_id}' has {m['time'].size} steps; the fit needs "
+                           f"`steps` ({n}) of them, 3 or more")
+    t = m["time"][:n]
+    fall = _earth_velocity(m)[:n] @ down
+    (a0, _), *_ = np.linalg.lstsq(np.column_stack([t, t ** 1.5]), fall, rcond=None)
+    return float(a0 / g)

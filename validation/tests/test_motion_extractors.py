@@ -1,0 +1,149 @@
+"""Extractors of moving-body runs on hand-made steps.csv and motion.csv: the oscillating
+sphere's force parts come back from a force built of them; a fall's velocity, path angle
+and release acceleration come back from a path built of them, turned into the earth axes."""
+import math
+import tempfile
+import unittest
+from pathlib import Path
+
+import support  # noqa: F401
+import numpy as np
+
+from harness.errors import HarnessError
+from harness.extract import EXTRACT
+from harness.references import DERIVED
+from harness.reference import ReferenceFile
+
+REFERENCE_ROOT = support.ROOT / "reference_data"
+
+
+class Ctx:
+    def __init__(self, directory, inputs):
+        self.directory, self.inputs = Path(directory), inputs
+
+    def run_dir(self, run_id):
+        return self.directory / run_id
+
+    def input_value(self, run_id, dotted):
+        node = self.inputs[run_id]
+        for part in dotted.split("."):
+            node = node[part]
+        return node
+
+
+def write_csv(path, header, rows):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(",".join(header) + "\n" + "".join(",".join(f"{v:.17g}" for v in r) + "\n" for r in rows))
+
+
+class OscillationForce(unittest.TestCase):
+    OMEGA, AMPLITUDE, RE, AREA = 100.0, 0.01, 2.0, 2.0
+
+    def inputs(self):
+        return {"run": {"flow": {"reynolds": self.RE}, "output": {"reference_area": self.AREA},
+                        "motion": {"type": "prescribed",
+                                   "oscillation": [{"dof": "x", "amplitude": self.AMPLITUDE,
+                                                    "angular_frequency": self.OMEGA, "phase": -90.0}]}}}
+
+    def write(self, d, drag_ratio, mass_ratio, periods=4):
+        R, w, A = 0.5, self.OMEGA, self.AMPLITUDE
+        a = drag_ratio * 6 * math.pi * R / self.RE
+        b = mass_ratio * 0.5 * 4 / 3 * math.pi * R ** 3
+        t = np.linspace(0, periods * 2 * math.pi / w, 48 * periods + 1)[1:]
+        u, du = A * w * np.sin(w * t), A * w * w * np.cos(w * t)  # phase -90: displacement -A cos(w t)
+        force = -(a * u + b * du) + 0.3 + 5.0 * np.exp(-t * w)  # a constant and a start-up transient
+        write_csv(Path(d) / "run" / "steps.csv", ["step", "time", "subiterations", "drop", "body_cfx", "body_cfy"],
+                  [(n + 1, t[n], 5, 1e-5, force[n] / (0.5 * self.AREA), 0.0) for n in range(t.size)])
+
+    def test_the_parts_a_force_is_built_of_come_back(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, 6.0, 1.9)
+            fn = EXTRACT["oscillation_force"][0]
+            ctx = Ctx(d, self.inputs())
+            self.assertAlmostEqual(fn(ctx, {"part": "drag", "periods": 2}, "run"), 6.0, delta=2e-3)
+            self.assertAlmostEqual(fn(ctx, {"part": "mass", "periods": 2}, "run"), 1.9, delta=2e-3)
+
+    def test_a_run_shorter_than_the_fit_is_an_error(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, 6.0, 1.9, periods=2)
+            with self.assertRaisesRegex(HarnessError, "periods"):
+                EXTRACT["oscillation_force"][0](Ctx(d, self.inputs()), {"part": "drag", "periods": 2}, "run")
+
+    def test_a_rotation_is_not_a_translational_oscillation(self):
+        inputs = self.inputs()
+        inputs["run"]["motion"]["oscillation"][0]["dof"] = "pitch"
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, 6.0, 1.9)
+            with self.assertRaisesRegex(HarnessError, "translation"):
+                EXTRACT["oscillation_force"][0](Ctx(d, inputs), {"part": "drag"}, "run")
+
+    def test_the_reference_file_holds_stokes_closed_form(self):
+        ref = ReferenceFile(REFERENCE_ROOT, "sphere/sphere_oscillating_stokes.csv")
+        for r in ref.column("R_over_delta"):
+            row = ref.rows_where({"R_over_delta": float(r)})
+            self.assertAlmostEqual(float(ref.column("drag_over_stokes", row)[0]), 1 + r, places=12)
+            self.assertAlmostEqual(float(ref.column("mass_over_added", row)[0]), 1 + 4.5 / r, places=12)
+
+
+def quaternion_about(axis, angle):
+    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * axis])
+
+
+def rotation(e):
+    e0, e1, e2, e3 = e
+    return np.array([[1 - 2 * (e2 * e2 + e3 * e3), 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2)],
+                     [2 * (e1 * e2 + e0 * e3), 1 - 2 * (e1 * e1 + e3 * e3), 2 * (e2 * e3 - e0 * e1)],
+                     [2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), 1 - 2 * (e1 * e1 + e2 * e2)]])
+
+
+class Fall(unittest.TestCase):
+    HEADER = ["step", "time", "x", "y", "z", "e0", "e1", "e2", "e3", "roll_deg", "pitch_deg", "yaw_deg",
+              "u", "v", "w", "p", "q", "r", "X", "Y", "Z", "K", "M", "N", "subiterations", "coupling_change"]
+
+    def write(self, d, earth_velocity_of, times, turned=0.7):
+        """Rows whose body velocities, turned by a quaternion, are earth_velocity_of(t)."""
+        e = quaternion_about([0.3, -0.5, 0.8], turned)
+        rows = []
+        for n, t in enumerate(times):
+            uvw = rotation(e).T @ earth_velocity_of(t)
+            rows.append([n + 1, t, 0, 0, 0, *e, 0, 0, 0, *uvw, *([0.0] * 9), 4, 1e-7])
+        write_csv(Path(d) / "run" / "motion.csv", self.HEADER, rows)
+
+    def inputs(self, gravity):
+        return {"run": {"motion": {"type": "free", "gravity": gravity}}}
+
+    def test_an_oblique_steady_fall_gives_its_speeds_and_angle(self):
+        # Gravity along -x of the grid: +x of the earth axes (x_E = -x of the grid).
+        down = np.array([1.0, 0.0, 0.0])
+        fall = 1.356 * down + np.array([0.0, 0.1245 * 0.6, 0.1245 * 0.8])
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, lambda t: fall, np.arange(1, 401) * 0.1)
+            ctx, fn = Ctx(d, self.inputs([-2.0, 0.0, 0.0])), EXTRACT["fall_velocity"][0]
+            self.assertAlmostEqual(fn(ctx, {"part": "vertical", "window": 5}, "run"), -1.356, places=10)
+            self.assertAlmostEqual(fn(ctx, {"part": "horizontal", "window": 5}, "run"), 0.1245, places=10)
+            self.assertAlmostEqual(fn(ctx, {"part": "angle", "window": 5}, "run"),
+                                   math.degrees(math.atan2(0.1245, 1.356)), places=8)
+
+    def test_release_acceleration_comes_back_through_the_history_force(self):
+        a0, c = 0.5, 0.2  # fall speed a0 t - c t^1.5 (a Basset-like start)
+        down = np.array([0.0, 0.0, 1.0])  # gravity along +z of the grid and of the earth axes
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, lambda t: (a0 * t - c * t ** 1.5) * down, np.arange(1, 11) * 0.002)
+            got = EXTRACT["release_acceleration"][0](Ctx(d, self.inputs([0.0, 0.0, 2.0])), {"steps": 10}, "run")
+            self.assertAlmostEqual(got, a0 / 2.0, places=10)
+
+    def test_zero_gravity_is_an_error(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, lambda t: np.zeros(3), np.arange(1, 11) * 0.1)
+            with self.assertRaisesRegex(HarnessError, "gravity is zero"):
+                EXTRACT["release_acceleration"][0](Ctx(d, self.inputs([0.0, 0.0, 0.0])), {"steps": 5}, "run")
+
+    def test_theory_for_a_sphere_uses_lamb_s_half(self):
+        ref = ReferenceFile(REFERENCE_ROOT, "spheroid/spheroid_added_mass_lamb.csv")
+        got = DERIVED["release_acceleration"](ref, {"ratio": 1.0, "density_ratio": 1.5})
+        self.assertAlmostEqual(got, 0.5 / 2.0, places=12)  # (1.5 - 1) / (1.5 + 1/2)
+
+
+if __name__ == "__main__":
+    unittest.main()
