@@ -86,12 +86,13 @@ def _earth_velocity(m):
 
 
 def _gravity(ctx, run_id):
-    """The free body's gravity in earth axes (the body axes at release, x_B = -x, y_B = -y,
-    z_B = z of the grid: motion/grid_axes.hpp): (unit vector, magnitude)."""
+    """The free body's gravity, (unit vector, magnitude), in earth axes: the grid's axes
+    (the body starts turned 180 degrees about z from them, x_B = -x, y_B = -y, z_B = z:
+    motion/grid_axes.hpp)."""
     motion = ctx.inputs[run_id].get("motion", {})
     if motion.get("type") != "free" or "gravity" not in motion:
         raise HarnessError(f"run '{run_id}' needs [motion] type = \"free\" with a gravity vector")
-    g = np.array([-float(motion["gravity"][0]), -float(motion["gravity"][1]), float(motion["gravity"][2])])
+    g = np.array([float(v) for v in motion["gravity"]])
     size = float(np.linalg.norm(g))
     if size == 0.0:
         raise HarnessError(f"run '{run_id}': [motion] gravity is zero")

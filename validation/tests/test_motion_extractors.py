@@ -114,12 +114,11 @@ class Fall(unittest.TestCase):
         return {"run": {"motion": {"type": "free", "gravity": gravity}}}
 
     def test_an_oblique_steady_fall_gives_its_speeds_and_angle(self):
-        # Gravity along -x of the grid: +x of the earth axes (x_E = -x of the grid).
-        down = np.array([1.0, 0.0, 0.0])
+        down = np.array([1.0, 0.0, 0.0])  # the earth axes are the grid's
         fall = 1.356 * down + np.array([0.0, 0.1245 * 0.6, 0.1245 * 0.8])
         with tempfile.TemporaryDirectory() as d:
             self.write(d, lambda t: fall, np.arange(1, 401) * 0.1)
-            ctx, fn = Ctx(d, self.inputs([-2.0, 0.0, 0.0])), EXTRACT["fall_velocity"][0]
+            ctx, fn = Ctx(d, self.inputs([2.0, 0.0, 0.0])), EXTRACT["fall_velocity"][0]
             self.assertAlmostEqual(fn(ctx, {"part": "vertical", "window": 5}, "run"), -1.356, places=10)
             self.assertAlmostEqual(fn(ctx, {"part": "horizontal", "window": 5}, "run"), 0.1245, places=10)
             self.assertAlmostEqual(fn(ctx, {"part": "angle", "window": 5}, "run"),
@@ -127,7 +126,7 @@ class Fall(unittest.TestCase):
 
     def test_release_acceleration_comes_back_through_the_history_force(self):
         a0, c = 0.5, 0.2  # fall speed a0 t - c t^1.5 (a Basset-like start)
-        down = np.array([0.0, 0.0, 1.0])  # gravity along +z of the grid and of the earth axes
+        down = np.array([0.0, 0.0, 1.0])
         with tempfile.TemporaryDirectory() as d:
             self.write(d, lambda t: (a0 * t - c * t ** 1.5) * down, np.arange(1, 11) * 0.002)
             got = EXTRACT["release_acceleration"][0](Ctx(d, self.inputs([0.0, 0.0, 2.0])), {"steps": 10}, "run")
