@@ -53,7 +53,12 @@ PEER_CODES = ("openfoam",)
 # "azimuthal" (the column around the body at the stations `stations`, x / L) and
 # "friction_lines" (skin-friction lines on the unrolled body and the cross-flow
 # separation line). `beside`: a second run of the rung (a peer code's) drawn on the same axes.
-PICTURE_KINDS = ("surface", "axial", "azimuthal", "friction_lines")
+# "time_history": a dual-time run's column against time, `column` = "steps:<column of
+# steps.csv>" or "motion:<column of motion.csv>", or motion:vertical_velocity (up positive) and
+# motion:horizontal_speed (a free body's velocity against and across gravity); reference
+# values without x are drawn as horizontal lines.
+PICTURE_KINDS = ("surface", "axial", "azimuthal", "friction_lines", "time_history")
+TIME_HISTORY_FILES = ("steps", "motion")
 
 
 @dataclass
@@ -260,6 +265,9 @@ def load_rung(path):
                 not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in pic.stations):
             raise HarnessError(f"{path}: key 'picture[{i}].stations': an azimuthal picture (and only it) takes a "
                                f"list of axial stations x / L; got {pic.stations!r}")
+        if kind == "time_history" and pic.column.partition(":")[0] not in TIME_HISTORY_FILES:
+            raise HarnessError(f"{path}: key 'picture[{i}].column': a time_history picture draws \"<file>:<column>\", "
+                               f"<file> one of {', '.join(TIME_HISTORY_FILES)}; got {pic.column!r}")
         try:
             unknown_keys(pic.reference, ("file", "where", "x", "y", "label"), f"picture[{i}].reference")
         except HarnessError as e:

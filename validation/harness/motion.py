@@ -74,7 +74,7 @@ def _motion(ctx, run_id):
     return t
 
 
-def _earth_velocity(m):
+def earth_velocity(m):
     """The body origin's velocity in earth axes, R(e) (u, v, w) (NUMERICS §11.3), per row."""
     e0, e1, e2, e3 = (m[k] for k in ("e0", "e1", "e2", "e3"))
     u, v, w = m["u"], m["v"], m["w"]
@@ -113,7 +113,7 @@ def fall_velocity(ctx, spec, run_id):
     last = m["time"] >= m["time"][-1] - window
     if m["time"][-1] < 2.0 * window:
         raise HarnessError(f"fall_velocity: run '{run_id}' ends at t = {m['time'][-1]:g}, before twice the window {window:g}")
-    v = _earth_velocity(m)[last]
+    v = earth_velocity(m)[last]
     along = v @ down
     across = float(np.mean(np.linalg.norm(v - np.outer(along, down), axis=1)))
     if part == "vertical":
@@ -135,6 +135,6 @@ def release_acceleration(ctx, spec, run_id):
         raise HarnessError(f"release_acceleration: run '{run_id}' has {m['time'].size} steps; the fit needs "
                            f"`steps` ({n}) of them, 3 or more")
     t = m["time"][:n]
-    fall = _earth_velocity(m)[:n] @ down
+    fall = earth_velocity(m)[:n] @ down
     (a0, _), *_ = np.linalg.lstsq(np.column_stack([t, t ** 1.5]), fall, rcond=None)
     return float(a0 / g)

@@ -19,6 +19,7 @@ from . import browser  # noqa: E402
 from .body import (around, azimuthal_mean, meridian_stations, meridians, separation_azimuth,  # noqa: E402
                    with_crossflow_friction)
 from .extract import read_csv  # noqa: E402
+from .motion import earth_velocity  # noqa: E402
 from .errors import HarnessError  # noqa: E402
 from .ladder import load_ladder  # noqa: E402
 
@@ -309,7 +310,47 @@ def _picture_friction_lines(tables, pic, ax):
     ax.legend(fontsize=7, loc="lower left")
 
 
+def _time_history(rung_dir, pic):
+    """(time, values, label) of a time_history picture, or None when the run has no such file."""
+    name, _, column = pic["column"].partition(":")
+    path = rung_dir / "runs" / pic["run"] / f"{name}.csv"
+    if not path.exists():
+        return None
+    t = read_csv(path)
+    if column in ("vertical_velocity", "horizontal_speed") and name == "motion" and pic.get("gravity"):
+        down = np.asarray(pic["gravity"], float)
+        down = down / np.linalg.norm(down)
+        v = earth_velocity(t)
+        along = v @ down
+        values = -along if column == "vertical_velocity" else np.linalg.norm(v - np.outer(along, down), axis=1)
+        return t["time"], values, column.replace("_", " ")
+    return (t["time"], t[column], column) if column in t else None
+
+
+def _picture_time_history(series, pic, ax):
+    time, values, label = series
+    ax.plot(time, values, "-", color="tab:blue", lw=1.2, label=f"Narwhal, {pic['run']}")
+    ref = pic.get("reference")
+    if ref and ref.get("x") is None:
+        for n, level in enumerate(ref["y"]):
+            ax.axhline(level, color="k", ls="--", lw=0.9, label=ref["label"] if n == 0 else None)
+    elif ref:
+        ax.plot(ref["x"], ref["y"], "ko", ms=5, label=ref["label"])
+    ax.set_xlabel("t")
+    ax.set_ylabel(label)
+    ax.legend(fontsize=8)
+
+
 def _plot_picture(rung_dir, pic, path):
+    if pic["kind"] == "time_history":
+        series = _time_history(rung_dir, pic)
+        if series is None:
+            return False
+        fig, ax = plt.subplots(figsize=(7.5, 4.2))
+        _picture_time_history(series, pic, ax)
+        _title(ax, pic["title"])
+        _save(fig, path)
+        return True
     t = _surface_table(rung_dir, pic)
     if t is None:
         return False

@@ -141,7 +141,8 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
                               "error": f"internal error: {e}\n{traceback.format_exc()}"})
             result["checks"].append(entry)
         result["reported"] = [_reported(ctx, q) for q in rung.reported if tier in q.tiers]
-        result["pictures"] = [_picture(p, root / "reference_data") for p in rung.pictures if tier in p.tiers]
+        result["pictures"] = [_picture(p, root / "reference_data", inputs.get(p.run, {}))
+                              for p in rung.pictures if tier in p.tiers]
         if not result["checks"]:
             result["status"] = "failed"
             result["message"] = f"no check of rung '{rung.name}' belongs to tier '{tier}'"
@@ -240,16 +241,20 @@ def _reported(ctx, q):
     return entry
 
 
-def _picture(p, reference_root):
-    """What the report needs to draw a picture: the run's surface file is read there;
-    reference points are read here, where reference_data/ is at hand."""
+def _picture(p, reference_root, run_input):
+    """What the report needs to draw a picture: the run's output files are read there;
+    reference points (or, without x, reference levels) and a free body's gravity are
+    read here, where reference_data/ and the run's input are at hand."""
     entry = {"kind": p.kind, "run": p.run, "title": p.title, "column": p.column, "group": p.group,
              "beside": p.beside, "stations": p.stations}
+    gravity = run_input.get("motion", {}).get("gravity")
+    if gravity is not None:
+        entry["gravity"] = [float(g) for g in gravity]
     if p.reference:
         try:
             ref = ReferenceFile(reference_root, p.reference["file"])
             rows = ref.rows_where(p.reference["where"]) if "where" in p.reference else None
-            entry["reference"] = {"x": ref.column(p.reference["x"], rows).tolist(),
+            entry["reference"] = {"x": ref.column(p.reference["x"], rows).tolist() if "x" in p.reference else None,
                                   "y": ref.column(p.reference["y"], rows).tolist(),
                                   "label": p.reference.get("label", p.reference["file"]),
                                   "source": ref.citation()}

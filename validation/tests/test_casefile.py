@@ -116,6 +116,12 @@ class RungFiles(unittest.TestCase):
         self.assertIn("picture[0].stations", self.error(GOOD + pic.replace("[0.5, 0.8]", '["mid"]')))
         self.assertIn("picture[0].beside", self.error(GOOD + pic + 'beside = "peer"\n'))
 
+    def test_time_history_pictures_name_the_file_they_draw_from(self):
+        pic = '\n[[picture]]\nkind = "time_history"\nrun = "a"\ntitle = "v"\ncolumn = "motion:vertical_velocity"\n'
+        self.assertEqual(load_rung(self.write(GOOD + pic)).pictures[0].column, "motion:vertical_velocity")
+        self.assertIn("picture[0].column", self.error(GOOD + pic.replace('"motion:', '"history:')))
+        self.assertIn("picture[0].column", self.error(GOOD + pic.replace('"motion:vertical_velocity"', '"u"')))
+
     def test_misspelled_key_is_named_with_a_suggestion(self):
         msg = self.error(GOOD.replace("tolerance = 1.0", "tolerence = 1.0\ntolerance = 1.0"))
         self.assertIn("unknown key 'check[0].tolerence'", msg)
