@@ -55,7 +55,8 @@ PEER_CODES = ("openfoam",)
 # separation line). `beside`: a second run of the rung (a peer code's) drawn on the same axes.
 # "time_history": a dual-time run's column against time, `column` = "steps:<column of
 # steps.csv>" or "motion:<column of motion.csv>", or motion:vertical_velocity (up positive) and
-# motion:horizontal_speed (a free body's velocity against and across gravity); reference
+# motion:horizontal_speed (a free body's velocity against and across gravity) and
+# motion:axis_from_vertical (the angle of its x axis from gravity, degrees); reference
 # values without x are drawn as horizontal lines.
 PICTURE_KINDS = ("surface", "axial", "azimuthal", "friction_lines", "time_history")
 TIME_HISTORY_FILES = ("steps", "motion")

@@ -138,3 +138,25 @@ def release_acceleration(ctx, spec, run_id):
     fall = earth_velocity(m)[:n] @ down
     (a0, _), *_ = np.linalg.lstsq(np.column_stack([t, t ** 1.5]), fall, rcond=None)
     return float(a0 / g)
+
+
+def axis_from_vertical_deg(m, down):
+    """Per row of motion.csv: the angle (degrees, 0 to 90) between the body's x axis,
+    R(e) x_B in earth axes, and the unit vector `down`."""
+    e0, e1, e2, e3 = (m[k] for k in ("e0", "e1", "e2", "e3"))
+    axis = np.column_stack([1 - 2 * (e2 * e2 + e3 * e3), 2 * (e1 * e2 + e0 * e3), 2 * (e1 * e3 - e0 * e2)])
+    return np.degrees(np.arccos(np.minimum(1.0, np.abs(axis @ down))))
+
+
+@extractor("axis_from_vertical", "at")
+def axis_from_vertical(ctx, spec, run_id):
+    """The angle (degrees, 0 to 90) between a free body's x axis and gravity: at the end of
+    the run (at = "end"), at release ("start") or the largest it reached ("max"). A slender
+    body released near vertical turns broadside, towards 90 (the Munk moment)."""
+    m = _motion(ctx, run_id)
+    down, _ = _gravity(ctx, run_id)
+    angles = axis_from_vertical_deg(m, down)
+    at = spec.get("at", "end")
+    if at not in ("end", "start", "max"):
+        raise HarnessError(f"axis_from_vertical: at must be end, start or max, got {at!r}")
+    return float({"end": angles[-1], "start": angles[0], "max": np.max(angles)}[at])

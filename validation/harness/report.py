@@ -19,7 +19,7 @@ from . import browser  # noqa: E402
 from .body import (around, azimuthal_mean, meridian_stations, meridians, separation_azimuth,  # noqa: E402
                    with_crossflow_friction)
 from .extract import read_csv  # noqa: E402
-from .motion import earth_velocity  # noqa: E402
+from .motion import axis_from_vertical_deg, earth_velocity  # noqa: E402
 from .errors import HarnessError  # noqa: E402
 from .ladder import load_ladder  # noqa: E402
 
@@ -324,6 +324,9 @@ def _time_history(rung_dir, pic):
         along = v @ down
         values = -along if column == "vertical_velocity" else np.linalg.norm(v - np.outer(along, down), axis=1)
         return t["time"], values, column.replace("_", " ")
+    if column == "axis_from_vertical" and name == "motion" and pic.get("gravity"):
+        down = np.asarray(pic["gravity"], float)
+        return t["time"], axis_from_vertical_deg(t, down / np.linalg.norm(down)), "axis from vertical [deg]"
     return (t["time"], t[column], column) if column in t else None
 
 

@@ -132,6 +132,16 @@ class Fall(unittest.TestCase):
             got = EXTRACT["release_acceleration"][0](Ctx(d, self.inputs([0.0, 0.0, 2.0])), {"steps": 10}, "run")
             self.assertAlmostEqual(got, a0 / 2.0, places=10)
 
+    def test_the_axis_angle_from_vertical_follows_the_attitude(self):
+        # Turned 70 degrees about y from the grid's axes: the body's x axis is 70 degrees
+        # from the earth's x, along which gravity points here.
+        e = quaternion_about([0.0, 1.0, 0.0], math.radians(70.0))
+        rows = [[1, 0.1, 0, 0, 0, *e] + [0.0] * 17]
+        with tempfile.TemporaryDirectory() as d:
+            write_csv(Path(d) / "run" / "motion.csv", self.HEADER, rows)
+            got = EXTRACT["axis_from_vertical"][0](Ctx(d, self.inputs([-2.0, 0.0, 0.0])), {}, "run")
+            self.assertAlmostEqual(got, 70.0, places=10)
+
     def test_zero_gravity_is_an_error(self):
         with tempfile.TemporaryDirectory() as d:
             self.write(d, lambda t: np.zeros(3), np.arange(1, 11) * 0.1)
