@@ -160,3 +160,33 @@ def axis_from_vertical(ctx, spec, run_id):
     if at not in ("end", "start", "max"):
         raise HarnessError(f"axis_from_vertical: at must be end, start or max, got {at!r}")
     return float({"end": angles[-1], "start": angles[0], "max": np.max(angles)}[at])
+
+
+@extractor("motion_extreme", "column", "reduce", "from_time")
+def motion_extreme(ctx, spec, run_id):
+    """The largest (reduce = "max") or smallest ("min") value of a motion.csv column from
+    `from_time` on: e.g. coupling_change, how far the body's velocities were from agreeing
+    with the flow's loads when each step ended."""
+    m = _motion(ctx, run_id)
+    column = spec.get("column", "")
+    if column not in m:
+        raise HarnessError(f"motion.csv of '{run_id}' has no column {column!r} (columns: {', '.join(m)})")
+    reduce = spec.get("reduce", "max")
+    if reduce not in ("max", "min"):
+        raise HarnessError(f"motion_extreme: reduce must be max or min, got {reduce!r}")
+    values = m[column][m["time"] >= float(spec.get("from_time", 0.0))]
+    if values.size == 0:
+        raise HarnessError(f"motion_extreme: run '{run_id}' has no step from t = {spec.get('from_time', 0.0)}")
+    return float(np.max(values) if reduce == "max" else np.min(values))
+
+
+@extractor("speed_rise", "from_time")
+def speed_rise(ctx, spec, run_id):
+    """The largest rise of a free body's speed |(u, v, w)| over one step from `from_time` on,
+    relative to the speed: at most 0 for a body that only decelerates (a coasting body
+    under its drag; an added-mass instability makes it oscillate)."""
+    m = _motion(ctx, run_id)
+    speed = np.sqrt(m["u"] ** 2 + m["v"] ** 2 + m["w"] ** 2)[m["time"] >= float(spec.get("from_time", 0.0))]
+    if speed.size < 2:
+        raise HarnessError(f"speed_rise: run '{run_id}' has fewer than two steps from t = {spec.get('from_time', 0.0)}")
+    return float(np.max(np.diff(speed) / speed[1:]))

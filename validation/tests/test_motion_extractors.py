@@ -142,6 +142,18 @@ class Fall(unittest.TestCase):
             got = EXTRACT["axis_from_vertical"][0](Ctx(d, self.inputs([-2.0, 0.0, 0.0])), {}, "run")
             self.assertAlmostEqual(got, 70.0, places=10)
 
+    def test_a_coasting_body_has_no_speed_rise_and_an_oscillating_one_has(self):
+        times = np.arange(1, 41) * 0.1
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, lambda t: np.array([0.5 / (1 + t), 0.0, 0.0]), times)
+            ctx = Ctx(d, self.inputs([0.0, 0.0, 0.0]))
+            self.assertLess(EXTRACT["speed_rise"][0](ctx, {"from_time": 0.5}, "run"), 0.0)
+            self.write(d, lambda t: np.array([0.5 / (1 + t) * (1 + 0.05 * (-1) ** round(t / 0.1)), 0, 0]), times)
+            self.assertGreater(EXTRACT["speed_rise"][0](ctx, {"from_time": 0.5}, "run"), 0.05)
+            self.assertEqual(EXTRACT["motion_extreme"][0](ctx, {"column": "coupling_change"}, "run"), 1e-7)
+            with self.assertRaisesRegex(HarnessError, "no column"):
+                EXTRACT["motion_extreme"][0](ctx, {"column": "drift"}, "run")
+
     def test_zero_gravity_is_an_error(self):
         with tempfile.TemporaryDirectory() as d:
             self.write(d, lambda t: np.zeros(3), np.arange(1, 11) * 0.1)
