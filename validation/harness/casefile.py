@@ -11,10 +11,10 @@ from pathlib import Path
 
 from .errors import HarnessError
 from . import extract as _extractors  # noqa: F401  (registers every extractor with its keys)
-from .schema import check_extract, check_options, check_reference, unknown_keys
+from .schema import OPTIONS, check_extract, check_options, check_reference, unknown_keys
 
 TIERS = ("quick", "nightly")
-COMPARATORS = ("abs", "rel", "profile_rms", "profile_max", "observed_order", "gci", "restart_equal", "max", "min")
+COMPARATORS = tuple(OPTIONS)  # one list: the comparators and the options each takes (schema.py)
 
 
 @dataclass

@@ -121,6 +121,19 @@ def compare(comparator, computed, reference, tolerance, options):
                    plot={"kind": "family", "h": computed.h.tolist(), "values": computed.values.tolist(),
                          "orders": [float(o) for o in observed_orders(computed)] if np.all(computed.values != 0) else [],
                          "theory": None, "extrapolated": f_ext})
+    elif comparator == "family_spread":
+        # A family already converged below what its differences can order (a GCI would
+        # divide round-off by round-off): every member within `tolerance` of the finest.
+        if not isinstance(computed, Family):
+            raise HarnessError("family_spread needs a family of runs")
+        finest = float(computed.values[-1])
+        if finest == 0.0:
+            raise HarnessError("family_spread: the finest run's value is zero; a relative spread is undefined")
+        spread = float(np.max(np.abs(computed.values - finest)) / abs(finest))
+        out.update(computed=spread, reference=None if reference is None else _scalar(reference, "reference"),
+                   delta=spread, passed=bool(spread <= tolerance),
+                   plot={"kind": "family", "h": computed.h.tolist(), "values": computed.values.tolist(),
+                         "orders": [], "theory": None, "extrapolated": None})
     elif comparator in ("max", "min"):
         # One-sided bounds (requirements such as "at most 40 cycles", "at least 5x faster").
         c = _scalar(computed, "computed value")

@@ -160,7 +160,7 @@ def _plot_scalar(check, path):
 
 def _plot_family(check, p, ax):
     h, v = np.array(p["h"]), np.array(p["values"])
-    if check["comparator"] == "gci":
+    if check["comparator"] in ("gci", "family_spread"):
         # Values against h with the Richardson-extrapolated value at h = 0, the reference,
         # and the band the GCI puts around the finest grid's value.
         ax.plot(h, v, "o-", label="Narwhal")
@@ -172,8 +172,9 @@ def _plot_family(check, p, ax):
         if ref is not None:
             ax.axhline(ref, color="k", lw=1.5, label=f"reference {ref:.6g}")
         g = check["tolerance"] * abs(v[-1])
+        bound = "GCI bound" if check["comparator"] == "gci" else "accepted spread"
         ax.axhspan(v[-1] - g, v[-1] + g, color="tab:green", alpha=0.12,
-                   label=f"finest ± GCI bound {100 * check['tolerance']:g} %")
+                   label=f"finest ± {bound} {100 * check['tolerance']:g} %")
         ax.set_xlim(left=0.0)
         ax.set_xlabel("grid spacing h")
         return

@@ -130,7 +130,7 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
                 ref_run = c.extract.get("run") or next((r.id for r in runs if r.family == c.extract.get("family")), None)
                 reference, desc = resolve_reference(ctx, c.reference, root / "reference_data", ref_run)
                 entry["reference_source"] = desc
-                if reference is None and c.comparator not in ("restart_equal", "gci", "max", "min"):
+                if reference is None and c.comparator not in ("restart_equal", "gci", "family_spread", "max", "min"):
                     raise HarnessError(f"check '{c.name}' has no reference")
                 entry.update(compare(c.comparator, computed, reference, c.tolerance, c.options))
             except HarnessError as e:

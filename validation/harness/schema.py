@@ -34,7 +34,7 @@ OPTIONS_COMMON = ("log_x",)
 OPTIONS = {
     "abs": (), "rel": (), "max": (), "min": (), "restart_equal": (),
     "profile_rms": ("relative",), "profile_max": ("relative",),
-    "observed_order": ("pairs",), "gci": ("safety_factor",),
+    "observed_order": ("pairs",), "gci": ("safety_factor",), "family_spread": (),
 }
 
 

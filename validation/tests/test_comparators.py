@@ -94,6 +94,15 @@ class GridFamilies(unittest.TestCase):
         fam = Family([0.1, 0.4, 0.2], [0.01, 0.16, 0.04])
         self.assertTrue(np.allclose(observed_orders(fam), 2.0))
 
+    def test_family_spread_is_the_largest_departure_from_the_finest(self):
+        fam = Family([1.0, 4.0, 2.0], [1.2500, 1.2510, 1.2490])  # finest (h = 1) listed first
+        r = compare("family_spread", fam, -1.285, 1e-3, {})
+        self.assertAlmostEqual(r["computed"], 0.001 / 1.25)
+        self.assertTrue(r["pass"])
+        self.assertFalse(compare("family_spread", fam, None, 5e-4, {})["pass"])
+        with self.assertRaisesRegex(HarnessError, "family"):
+            compare("family_spread", 1.25, None, 1e-3, {})
+
     def test_gci_on_exact_second_order_data_constant_ratio(self):
         # f = 1 + 0.5 h^2 on h = 4, 2, 1: p = 2, extrapolation exact, and by Roache's
         # definition GCI_fine = 1.25 |(f1 - f2)/f1| / (r^p - 1) = 1.25 * (1.5/1.5) / 3.
