@@ -58,7 +58,10 @@ PEER_CODES = ("openfoam",)
 # motion:horizontal_speed (a free body's velocity against and across gravity) and
 # motion:axis_from_vertical (the angle of its x axis from gravity, degrees); reference
 # values without x are drawn as horizontal lines.
-PICTURE_KINDS = ("surface", "axial", "azimuthal", "friction_lines", "time_history")
+# "wake_strip": the flow speed in the plane y = y_O through a free body's origin, from
+# the solution.cgns of `run` and of the runs in `then` (later states of the same fall,
+# each continuing the one before), side by side.
+PICTURE_KINDS = ("surface", "axial", "azimuthal", "friction_lines", "time_history", "wake_strip")
 TIME_HISTORY_FILES = ("steps", "motion")
 
 
@@ -73,6 +76,7 @@ class Picture:
     reference: dict = field(default_factory=dict)
     beside: str = ""
     stations: list = field(default_factory=list)
+    then: list = field(default_factory=list)
 
 
 @dataclass
@@ -258,10 +262,13 @@ def load_rung(path):
                       group=r.get("group", str, "the wall group", default="body"),
                       reference=r.get("reference", dict, "reference points {file, where, x, y, label}", default={}),
                       beside=r.get("beside", str, "the id of a run drawn beside it", default=""),
-                      stations=r.get("stations", list, "a list of axial stations x / L", default=[]))
-        for key, run in (("run", pic.run), ("beside", pic.beside)):
+                      stations=r.get("stations", list, "a list of axial stations x / L", default=[]),
+                      then=r.get("then", list, "a list of run ids (later states)", default=[]))
+        for key, run in (("run", pic.run), ("beside", pic.beside), *(("then", x) for x in pic.then)):
             if run and run not in ids:
                 raise HarnessError(f"{path}: key 'picture[{i}].{key}': unknown run '{run}'")
+        if pic.then and kind != "wake_strip":
+            raise HarnessError(f"{path}: key 'picture[{i}].then': only a wake_strip picture takes later runs")
         if (kind == "azimuthal") != bool(pic.stations) or \
                 not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in pic.stations):
             raise HarnessError(f"{path}: key 'picture[{i}].stations': an azimuthal picture (and only it) takes a "

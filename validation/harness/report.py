@@ -20,6 +20,7 @@ from .body import (around, azimuthal_mean, meridian_stations, meridians, separat
                    with_crossflow_friction)
 from .extract import read_csv  # noqa: E402
 from .motion import axis_from_vertical_deg, earth_velocity  # noqa: E402
+from .solution import read_solution  # noqa: E402
 from .errors import HarnessError  # noqa: E402
 from .ladder import load_ladder  # noqa: E402
 
@@ -345,7 +346,57 @@ def _picture_time_history(series, pic, ax):
     ax.legend(fontsize=8)
 
 
+def _wake_panel(run_dir, ax, vmax=None):
+    """The flow speed in the plane y = y_O through the body's origin (motion.csv's last
+    row): the cells within 8 degrees of it seen from the x axis through the origin (the
+    body grids' meridians), x along the fall; returns the scatter and the speeds."""
+    m = read_csv(run_dir / "motion.csv")
+    origin = np.array([m["x"][-1], m["y"][-1], m["z"][-1]])
+    xs, zs, speed = [], [], []
+    for z in read_solution(run_dir / "solution.cgns"):
+        c = z.centres
+        dy, dz = c[..., 1] - origin[1], c[..., 2] - origin[2]
+        near = np.abs(dy) < np.tan(np.radians(8.0)) * np.abs(dz) + 1e-3
+        near &= np.abs(c[..., 0] - origin[0]) < 8.0
+        near &= np.abs(c[..., 2] - origin[2]) < 3.0
+        xs.append(c[..., 0][near] - origin[0])
+        zs.append(c[..., 2][near] - origin[2])
+        speed.append(np.sqrt(z.fields["u"] ** 2 + z.fields["v"] ** 2 + z.fields["w"] ** 2)[near])
+    x, zz, s = np.concatenate(xs), np.concatenate(zs), np.concatenate(speed)
+    order = np.argsort(s)  # fast cells drawn last
+    sc = ax.scatter(x[order], zz[order], c=s[order], s=4.0, cmap="magma", vmin=0.0,
+                    vmax=vmax or np.percentile(s, 99.5))
+    ax.set_aspect("equal")
+    ax.set_xlim(-2.5, 8.0)
+    ax.set_ylim(-2.5, 2.5)
+    ax.set_title(f"t = {m['time'][-1]:.3g}", fontsize=9)
+    return sc, s
+
+
+def _plot_wake_strip(rung_dir, pic, path):
+    runs = [r for r in [pic["run"], *pic.get("then", [])]
+            if (rung_dir / "runs" / r / "solution.cgns").exists() and (rung_dir / "runs" / r / "motion.csv").exists()]
+    if not runs:
+        return False
+    fig, axes = plt.subplots(len(runs), 1, figsize=(7.5, 2.9 * len(runs) + 1.2), squeeze=False)
+    vmax = None
+    for ax, run in zip(axes[:, 0], runs):
+        sc, s = _wake_panel(rung_dir / "runs" / run, ax, vmax)
+        vmax = vmax or float(np.percentile(s, 99.5))  # one colour scale for the strip
+        ax.set_ylabel("z - z_O")
+    axes[-1, 0].set_xlabel("x - x_O (the body falls towards -x)")
+    fig.suptitle(pic["title"], fontsize=10)
+    fig.tight_layout(rect=(0.0, 0.1, 1.0, 1.0))  # room below for the colour bar
+    fig.colorbar(sc, cax=fig.add_axes((0.2, 0.06, 0.6, 0.015)), orientation="horizontal",
+                 label="flow speed (earth frame)")
+    fig.savefig(path, dpi=90)  # laid out above: _save's tight_layout would not place the bar's axes
+    plt.close(fig)
+    return True
+
+
 def _plot_picture(rung_dir, pic, path):
+    if pic["kind"] == "wake_strip":
+        return _plot_wake_strip(rung_dir, pic, path)
     if pic["kind"] == "time_history":
         series = _time_history(rung_dir, pic)
         if series is None:

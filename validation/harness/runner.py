@@ -246,7 +246,7 @@ def _picture(p, reference_root, run_input):
     reference points (or, without x, reference levels) and a free body's gravity are
     read here, where reference_data/ and the run's input are at hand."""
     entry = {"kind": p.kind, "run": p.run, "title": p.title, "column": p.column, "group": p.group,
-             "beside": p.beside, "stations": p.stations}
+             "beside": p.beside, "stations": p.stations, "then": p.then}
     gravity = run_input.get("motion", {}).get("gravity")
     if gravity is not None:
         entry["gravity"] = [float(g) for g in gravity]

@@ -122,6 +122,12 @@ class RungFiles(unittest.TestCase):
         self.assertIn("picture[0].column", self.error(GOOD + pic.replace('"motion:', '"history:')))
         self.assertIn("picture[0].column", self.error(GOOD + pic.replace('"motion:vertical_velocity"', '"u"')))
 
+    def test_wake_strips_name_known_later_runs_and_only_they_take_them(self):
+        pic = '\n[[picture]]\nkind = "wake_strip"\nrun = "a"\ntitle = "wake"\nthen = ["a"]\n'
+        self.assertEqual(load_rung(self.write(GOOD + pic)).pictures[0].then, ["a"])
+        self.assertIn("unknown run 'b'", self.error(GOOD + pic.replace('then = ["a"]', 'then = ["b"]')))
+        self.assertIn("picture[0].then", self.error(GOOD + pic.replace('"wake_strip"', '"axial"')))
+
     def test_misspelled_key_is_named_with_a_suggestion(self):
         msg = self.error(GOOD.replace("tolerance = 1.0", "tolerence = 1.0\ntolerance = 1.0"))
         self.assertIn("unknown key 'check[0].tolerence'", msg)
