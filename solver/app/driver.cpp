@@ -208,7 +208,7 @@ struct Monitors {
 // How a physical step's sub-iterations ended.
 struct StepConvergence {
   int subiterations = 0;
-  Real drop = 1.0;             // |R*| / |R*_0| reached
+  Real drop = 1.0;             // |R*| / |R*_0| reached (the largest of the mean flow's and each turbulence variable's)
   Real coupling_change = 0.0;  // a free body's last velocity change
 };
 
@@ -395,6 +395,7 @@ class SteadyRun {
       mg_->use_physical_time(&dual_time_->term());
     else
       single_->set_physical_time(&dual_time_->term());
+    if (turb_) turb_->use_physical_time(&dual_time_->term());
     if (root_)
       steps_ = std::make_unique<StepsWriter>(file("steps.csv"), groups_,
                                              continuing_ ? std::optional<int>(info_.time_step) : std::nullopt);
@@ -489,6 +490,7 @@ class SteadyRun {
   // residual is that of the state entering it.
   StepConvergence sub_iterate() {
     Real first = 0.0;
+    Real first_turbulence[2] = {0.0, 0.0};
     StepConvergence done;
     const bool free = motion_ && motion_->free_body();
     while (done.subiterations < c_.time.max_subiterations) {
@@ -498,7 +500,16 @@ class SteadyRun {
       if (++done.subiterations == 1) first = n.total;
       done.drop = first > 0.0 ? n.total / first : 0.0;
       monitors_.take_mean_flow(n, first > 0.0 ? first : 1.0);
-      if (turb_) monitors_.take_turbulence(coupling_->after_mean_flow_step(cfl));
+      if (turb_) {
+        // A transport model's variables converge within the step too: their own drops
+        // count (a uniform mean flow has no residual to drop while k and epsilon decay).
+        const TurbulenceNorms t = coupling_->after_mean_flow_step(cfl);
+        monitors_.take_turbulence(t);
+        for (int m = 0; m < 2; ++m) {
+          if (done.subiterations == 1) first_turbulence[m] = t.l2[m];
+          if (first_turbulence[m] > 0.0) done.drop = std::max(done.drop, t.l2[m] / first_turbulence[m]);
+        }
+      }
       measure_forces();
       if (free)
         done.coupling_change =

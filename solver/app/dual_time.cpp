@@ -18,9 +18,22 @@ DualTime::DualTime(const Grid& g, const TimeConfig& tc) : tc_(tc), term_(g, true
   }
 }
 
+namespace {
+void allocate_like(const Grid& g, std::vector<GhostArray<TurbState>>& levels) {
+  levels.resize(g.blocks.size());
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+    if (g.owns(ib)) levels[ib].resize(g.blocks[ib].ni, g.blocks[ib].nj, g.blocks[ib].nk, 0, TurbState::Zero());
+}
+}  // namespace
+
 void DualTime::begin_step(const Grid& g, const FlowField& f) {
   std::swap(q_n_, q_nm1_);
   std::swap(vol_n_, vol_nm1_);
+  std::swap(turb_n_, turb_nm1_);
+  if (!f.turb.empty() && turb_n_.empty()) {
+    allocate_like(g, turb_n_);
+    allocate_like(g, turb_nm1_);
+  }
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     if (!g.owns(ib)) continue;
     const Block& b = g.blocks[ib];
@@ -28,10 +41,11 @@ void DualTime::begin_step(const Grid& g, const FlowField& f) {
     for_each_cell(b, [&](int i, int j, int k) {
       q_n_[ib](i, j, k) = f.Q[ib](i, j, k);
       vol_n_[ib](i, j, k) = b.vol(i, j, k);
+      if (!turb_n_.empty()) turb_n_[ib](i, j, k) = f.turb[ib](i, j, k);
     });
   }
   term_.set_step(tc_.step, coefficients_of_step(step_ + 1));
-  term_.set_old_levels(g, vol_n_, q_n_, vol_nm1_, q_nm1_);
+  term_.set_old_levels(g, vol_n_, q_n_, vol_nm1_, q_nm1_, turb_n_, turb_nm1_);
   previous_step_ = tc_.step;
   ++step_;
   time_ += tc_.step;
@@ -43,17 +57,30 @@ BdfCoefficients DualTime::coefficients_of_step(int n) const {
 }
 
 void DualTime::save_previous(const Grid& g, FlowField& f) const {
+  if (!turb_n_.empty() && f.turb.size() != g.blocks.size()) {
+    f.turb.clear();
+    for (const Block& b : g.blocks) f.turb.emplace_back(b.ni, b.nj, b.nk, kGhost, TurbState::Zero());
+  }
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
-    if (g.owns(ib)) for_each_cell(g.blocks[ib], [&](int i, int j, int k) { f.Q[ib](i, j, k) = q_n_[ib](i, j, k); });
+    if (g.owns(ib))
+      for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
+        f.Q[ib](i, j, k) = q_n_[ib](i, j, k);
+        if (!turb_n_.empty()) f.turb[ib](i, j, k) = turb_n_[ib](i, j, k);
+      });
 }
 
 void DualTime::restore(const Grid& g, const FlowField& previous, int step, Real time) {
+  if (!previous.turb.empty() && turb_n_.empty()) {
+    allocate_like(g, turb_n_);
+    allocate_like(g, turb_nm1_);
+  }
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     if (!g.owns(ib)) continue;
     const Block& b = g.blocks[ib];
     for_each_cell(b, [&](int i, int j, int k) {
       q_n_[ib](i, j, k) = previous.Q[ib](i, j, k);
       vol_n_[ib](i, j, k) = b.vol(i, j, k);
+      if (!previous.turb.empty()) turb_n_[ib](i, j, k) = previous.turb[ib](i, j, k);
     });
   }
   step_ = step;

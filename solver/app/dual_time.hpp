@@ -1,6 +1,7 @@
 #pragma once
 // The physical-time levels of a dual-time run (NUMERICS §2.5, §6.8): t^n, the states
-// Q^n and Q^{n-1} and volumes V^n and V^{n-1} of the owned blocks, and the steps taken.
+// Q^n and Q^{n-1} (with the transport turbulence models' variables, when the run has
+// them) and volumes V^n and V^{n-1} of the owned blocks, and the steps taken.
 // begin_step moves a step on: the state reached becomes Q^n, the BDF coefficients are
 // set (BDF2 starts with a BDF1 step: there is no Q^{n-1} yet) and the finest level's
 // physical-time term gets its old levels' part. The state itself is the guess
@@ -22,8 +23,9 @@ class DualTime {
   // first step.
   BdfCoefficients coefficients_of_step(int n) const;
 
-  // For a restart: Q^{n-1} into f's Q (owned blocks), and back. restore() takes the
-  // volumes V^{n-1} from `g` as it stands: place a moving grid at t^{n-1} first.
+  // For a restart: Q^{n-1} (and the turbulence variables' level n-1) into f (owned
+  // blocks), and back. restore() takes the volumes V^{n-1} from `g` as it stands: place
+  // a moving grid at t^{n-1} first.
   void save_previous(const Grid& g, FlowField& f) const;
   void restore(const Grid& g, const FlowField& previous, int step, Real time);
 
@@ -40,6 +42,7 @@ class DualTime {
   Real time_ = 0.0;
   Real previous_step_ = 0.0;  // dt_{n-1}; 0: none yet
   std::vector<GhostArray<State>> q_n_, q_nm1_;
+  std::vector<GhostArray<TurbState>> turb_n_, turb_nm1_;  // empty: no transport turbulence model
   std::vector<GhostArray<Real>> vol_n_, vol_nm1_;
 };
 

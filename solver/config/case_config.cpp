@@ -229,11 +229,6 @@ void read_time(const ConfigReader& r, CaseConfig& c) {
                                      "the fewest sub-iterations per step", Range::between(1, 1e6));
   t.max_subiterations = r.integer_or("time.max_subiterations", t.max_subiterations,
                                      "the most sub-iterations per step", Range::between(t.min_subiterations, 1e6));
-  // The transport models' equations have no physical-time term yet: their steady
-  // relaxation inside each step would not be time-accurate.
-  if (c.turbulence.model != "laminar" && c.turbulence.model != "baldwin-lomax")
-    r.error("time.scheme", "dual time stepping runs laminar or with Baldwin-Lomax so far; turbulence.model is '" +
-                               c.turbulence.model + "'");
   if (c.bulk_velocity > 0.0)
     r.error("time.scheme", "a flow-rate-controlled body force (flow.bulk_velocity) is for steady runs");
 }

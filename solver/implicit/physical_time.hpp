@@ -7,11 +7,15 @@
 //   B_c = I_a (c1 V^n Q^n + c2 V^{n-1} Q^{n-1})
 // is constant during a step; on a coarse multigrid level it cancels in the FAS forcing
 // (§7.3), so only the finest level holds it and the coarse levels' terms have none.
+// The transport turbulence models' variables phi (§8.6) take the same term, all of
+// them with a time derivative: (c0 V phi + c1 V^n phi^n + c2 V^{n-1} phi^{n-1}) / dt in
+// the residual and c0 V / dt on the diagonal; they are solved on the finest level only.
 #include <vector>
 
 #include "core/types.hpp"
 #include "fields/ghost_array.hpp"
 #include "mesh/block.hpp"
+#include "physics/flow.hpp"  // TurbState
 
 namespace narwhal {
 
@@ -35,9 +39,12 @@ class PhysicalTimeTerm {
     dt_ = dt;
     c_ = c;
   }
-  // B_c from the old levels' volumes and states (c2's level ignored when c2 = 0).
+  // B_c from the old levels' volumes and states (c2's level ignored when c2 = 0); the
+  // turbulence variables' part too when `turb_n` is not empty.
   void set_old_levels(const Grid& g, const std::vector<GhostArray<Real>>& vol_n, const std::vector<GhostArray<State>>& q_n,
-                      const std::vector<GhostArray<Real>>& vol_nm1, const std::vector<GhostArray<State>>& q_nm1);
+                      const std::vector<GhostArray<Real>>& vol_nm1, const std::vector<GhostArray<State>>& q_nm1,
+                      const std::vector<GhostArray<TurbState>>& turb_n = {},
+                      const std::vector<GhostArray<TurbState>>& turb_nm1 = {});
 
   // R_c += I_a (c0 V_c Q_c + B_c) / dt for the cells of block ib (V_c: the block's current volume).
   void add_to_residual(std::size_t ib, const Block& b, const GhostArray<State>& Q, GhostArray<State>& R) const;
@@ -49,6 +56,15 @@ class PhysicalTimeTerm {
     D(3, 3) += a;
   }
 
+  // The turbulence variables' share in cell c of block ib (volume V, values phi): residual
+  // and diagonal (finest level, after set_old_levels with the turbulence levels).
+  void add_to_turbulence(std::size_t ib, const Index3& c, Real V, const TurbState& phi, TurbState& R,
+                         TurbState& D) const {
+    R += (c_.c0 * V * phi + old_turb_[ib](c)) / dt_;
+    D += TurbState::Constant(c_.c0 * V / dt_);
+  }
+  bool has_turbulence() const { return !old_turb_.empty(); }
+
   Real dt() const { return dt_; }
   const BdfCoefficients& coefficients() const { return c_; }
 
@@ -57,6 +73,7 @@ class PhysicalTimeTerm {
   BdfCoefficients c_;
   bool holds_old_levels_;
   std::vector<GhostArray<Vec3>> old_;  // B_c's momentum part per owned block (finest level only)
+  std::vector<GhostArray<TurbState>> old_turb_;  // the turbulence variables' (transport models)
 };
 
 }  // namespace narwhal

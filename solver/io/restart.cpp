@@ -288,6 +288,12 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
       if (!f.turb.empty()) {  // turbulence model variables T[k][j][i][2]
         pack<TurbState, 2>(b, f.turb[ib], buf);
         write_dataset(path, grp, "turbulence", {dims[0], dims[1], dims[2], 2}, buf.data());
+        if (previous) {  // and their level n-1 in a dual-time run
+          if (previous->turb.size() != g.blocks.size())
+            fail("restart '{}': the turbulence variables' level n-1 is missing (a dual-time run keeps it)", path);
+          pack<TurbState, 2>(b, previous->turb[ib], buf);
+          write_dataset(path, grp, "turbulence_previous", {dims[0], dims[1], dims[2], 2}, buf.data());
+        }
       }
     }
   } catch (...) {
@@ -426,6 +432,14 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
     if (turbulent) {
       read_dataset(path, file, grp + "/turbulence", {dims[0], dims[1], dims[2], 2}, buf);
       unpack<TurbState, 2>(b, buf, f.turb[ib]);
+      if (info.time_step > 0) {
+        if (previous->turb.size() != g.blocks.size()) {
+          previous->turb.clear();
+          for (const Block& pb : g.blocks) previous->turb.emplace_back(pb.ni, pb.nj, pb.nk, kGhost, TurbState::Zero());
+        }
+        read_dataset(path, file, grp + "/turbulence_previous", {dims[0], dims[1], dims[2], 2}, buf);
+        unpack<TurbState, 2>(b, buf, previous->turb[ib]);
+      }
     }
   }
   return info;

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "implicit/physical_time.hpp"
 #include "mesh/block.hpp"
 #include "parallel/communicator.hpp"
 #include "physics/flow.hpp"
@@ -122,6 +123,10 @@ class TurbulenceModel {
   virtual std::string describe_largest_residual(const Grid& /*g*/, int /*m*/, const Communicator& /*comm*/) const {
     return "";
   }
+  // A dual-time run's physical-time term (the finest level's, holding the old levels):
+  // the transport models add their variables' share to each update (§6.1, §8.6);
+  // algebraic models have no variables. nullptr: steady.
+  virtual void use_physical_time(const PhysicalTimeTerm* /*term*/) {}
 };
 
 struct TurbulenceModelInfo {

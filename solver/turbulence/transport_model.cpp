@@ -385,6 +385,7 @@ void TransportModel::assemble_sources(const Block& b, int ib, const FlowField& f
     const Real V = b.vol(c);
     w.R(c) -= V * value;
     w.D(c) += V * implicit + TurbState::Constant(w.lam(c) / cfl_t);
+    if (time_) time_->add_to_turbulence(static_cast<std::size_t>(ib), c, V, T(c), w.R(c), w.D(c));
     for (int m = 0; m < nv; ++m) {
       if (!(w.D(c)[m] > 0.0)) w.D(c)[m] = w.lam(c) > 0.0 ? w.lam(c) : 1.0;  // keep the relaxation defined
       sums[m] += (w.R(c)[m] / V) * (w.R(c)[m] / V);

@@ -53,6 +53,8 @@ class TransportModel : public TurbulenceModel {
   Real eddy_viscosity(const FlowField& f, const FlowParams& fp, int ib, const Index3& c) const override;
   std::string describe_largest_residual(const Grid& g, int m, const Communicator& comm) const override;
 
+  void use_physical_time(const PhysicalTimeTerm* term) override { time_ = term; }
+
   const WallDistance& walls() const { return wall_; }
 
  protected:
@@ -134,6 +136,7 @@ class TransportModel : public TurbulenceModel {
   void apply_update(const Grid& g, FlowField& f);
 
   WallDistance wall_;
+  const PhysicalTimeTerm* time_ = nullptr;  // dual time: the variables' physical-time term
   std::vector<Real> u_tau_;  // per wall face (WallDistance::faces order), when the model needs it
   // Per block: face volume fluxes per direction, residual, implicit diagonal and
   // off-diagonal coefficients per face (dR_R/dphi_L and dR_L/dphi_R), correction.

@@ -68,10 +68,6 @@ TEST(DualTimeRun, BadTimeInputIsNamed) {
   e = error_of({"time.scheme=\"bdf1\"", "time.step=0.1", "time.steps=2", "time.min_subiterations=5",
                 "time.max_subiterations=3"});
   EXPECT_NE(e.find("time.max_subiterations"), std::string::npos) << e;
-  // the transport models carry no physical-time term yet
-  e = error_of({"time.scheme=\"bdf2\"", "time.step=0.1", "time.steps=2", "turbulence.model=\"sst\""});
-  EXPECT_NE(e.find("time.scheme"), std::string::npos) << e;
-  EXPECT_NE(e.find("sst"), std::string::npos) << e;
 }
 
 // The plate moving with its grid (a heaving, pitching oscillation) and BDF2: stopped
@@ -119,6 +115,33 @@ TEST(DualTimeRun, Bdf2RestartOnAMovingGridEqualsTheUninterruptedRun) { expect_re
 
 TEST(DualTimeRun, Bdf2RestartEqualsTheUninterruptedRunInPiecesAndWithMultigrid) {
   expect_restart_equals_uninterrupted({"parallel.split_for=2", "solver.multigrid_levels=2"});
+}
+
+TEST(DualTimeRun, Bdf2RestartOfATurbulentRunEqualsTheUninterruptedRun) {
+  // SST's k and omega carry their level n-1 in the restart like the mean flow's Q. (On
+  // a moving grid the continued SST run departs from the uninterrupted one by 1e-10 in
+  // the forces after a step: not yet bit for bit, motion/DESIGN.md.)
+  std::vector<std::string> o = kBdf2;
+  o.insert(o.end(), {"turbulence.model=\"sst\"", "time.steps=8", "time.max_subiterations=4"});
+  const CaseConfig c = parse_case(plate_text(), "plate.toml", ".", small_plate(o));
+  const fs::path dir = test::fresh_temp_dir("narwhal_dual_time_turbulent_restart");
+  RunOptions whole;
+  whole.out_dir = (dir / "whole").string();
+  ASSERT_EQ(run_case(c, whole).status, RunStatus::Completed);
+  o.push_back("time.steps=3");
+  RunOptions split;
+  split.out_dir = (dir / "split").string();
+  run_case(parse_case(plate_text(), "plate.toml", ".", small_plate(o)), split);
+  RunOptions resumed = split;
+  resumed.restart = (dir / "split" / "restart.h5").string();
+  ASSERT_EQ(run_case(c, resumed).status, RunStatus::Completed);
+  auto rows = [](const fs::path& p) {
+    auto t = test::read_csv(p.string());
+    t.erase("wall_s");
+    return t;
+  };
+  EXPECT_EQ(rows(dir / "split" / "steps.csv"), rows(dir / "whole" / "steps.csv"));
+  EXPECT_EQ(rows(dir / "split" / "history.csv"), rows(dir / "whole" / "history.csv"));
 }
 
 TEST(DualTimeRun, ASteadyRunDoesNotTakeADualTimeRestart) {
