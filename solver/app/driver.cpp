@@ -454,11 +454,17 @@ class SteadyRun {
   }
 
   // §6.8 steps 1-2: the grids to the pose of t^{n+1} (a free body's predicted), their
-  // metrics and face speeds.
+  // metrics and face speeds; the eddy viscosity of Q^n made again on them. It was made
+  // on the grid of t^n, with the face speeds there (a wall's ghost velocity): a restart
+  // cannot rebuild those speeds without the step before, so nothing carries them over.
   void move_grids() {
     if (!motion_) return;
     const Real dt = dual_time_->step_size();
     motion_->begin_step(dual_time_->time() - dt, dt, dual_time_->term().coefficients());
+    if (turb_) {
+      fill_ghosts(g_, field_, fp_);
+      turb_->update_viscosity(g_, field_, fp_);
+    }
   }
 
   // The flow's loads on a free body: every wall group's, in grid (earth) axes, about the
