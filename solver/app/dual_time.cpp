@@ -57,10 +57,7 @@ BdfCoefficients DualTime::coefficients_of_step(int n) const {
 }
 
 void DualTime::save_previous(const Grid& g, FlowField& f) const {
-  if (!turb_n_.empty() && f.turb.size() != g.blocks.size()) {
-    f.turb.clear();
-    for (const Block& b : g.blocks) f.turb.emplace_back(b.ni, b.nj, b.nk, kGhost, TurbState::Zero());
-  }
+  if (!turb_n_.empty() && f.turb.size() != g.blocks.size()) f.allocate_turbulence(g);
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
     if (g.owns(ib))
       for_each_cell(g.blocks[ib], [&](int i, int j, int k) {

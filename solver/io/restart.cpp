@@ -403,10 +403,7 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
   if (variables != 0 && variables != 2)
     fail("restart '{}': attribute 'turbulence_variables' is {}, expected 0 or 2", path, variables);
   const bool turbulent = variables == 2;
-  if (turbulent && f.turb.size() != g.blocks.size()) {
-    f.turb.clear();
-    for (const Block& b : g.blocks) f.turb.emplace_back(b.ni, b.nj, b.nk, kGhost, TurbState::Zero());
-  }
+  if (turbulent && f.turb.size() != g.blocks.size()) f.allocate_turbulence(g);
   std::vector<double> buf;
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
@@ -433,10 +430,7 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
       read_dataset(path, file, grp + "/turbulence", {dims[0], dims[1], dims[2], 2}, buf);
       unpack<TurbState, 2>(b, buf, f.turb[ib]);
       if (info.time_step > 0) {
-        if (previous->turb.size() != g.blocks.size()) {
-          previous->turb.clear();
-          for (const Block& pb : g.blocks) previous->turb.emplace_back(pb.ni, pb.nj, pb.nk, kGhost, TurbState::Zero());
-        }
+        if (previous->turb.size() != g.blocks.size()) previous->allocate_turbulence(g);
         read_dataset(path, file, grp + "/turbulence_previous", {dims[0], dims[1], dims[2], 2}, buf);
         unpack<TurbState, 2>(b, buf, previous->turb[ib]);
       }

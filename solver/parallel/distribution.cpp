@@ -46,10 +46,7 @@ void copy_between_layouts(const Grid& pieces, FlowField& f_pieces, const Grid& w
   FlowField& src = to_whole ? f_pieces : f_whole;
   FlowField& dst = to_whole ? f_whole : f_pieces;
   const Grid& dst_grid = to_whole ? whole : pieces;
-  if (!src.turb.empty() && dst.turb.size() != dst_grid.blocks.size()) {
-    dst.turb.clear();
-    for (const Block& b : dst_grid.blocks) dst.turb.emplace_back(b.ni, b.nj, b.nk, kGhost, TurbState::Zero());
-  }
+  if (!src.turb.empty() && dst.turb.size() != dst_grid.blocks.size()) dst.allocate_turbulence(dst_grid);
   for (std::size_t ip = 0; ip < pieces.blocks.size(); ++ip) {
     const Block& p = pieces.blocks[ip];
     const std::string& name = p.parent.empty() ? p.name : p.parent;

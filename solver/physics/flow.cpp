@@ -17,4 +17,9 @@ void FlowField::allocate_states(const Grid& g, const State& init) {
   for (const auto& b : g.blocks) Q.emplace_back(b.ni, b.nj, b.nk, kGhost, init);
 }
 
+void FlowField::allocate_turbulence(const Grid& g) {
+  turb.clear();
+  for (const auto& b : g.blocks) turb.emplace_back(b.ni, b.nj, b.nk, kGhost, TurbState::Zero());
+}
+
 }  // namespace narwhal

@@ -39,6 +39,8 @@ struct FlowField {
   void allocate(const Grid& g, const FlowParams& fp, const State& init);
   // Q alone: a time level kept for a restart (gathered and written as Q is).
   void allocate_states(const Grid& g, const State& init);
+  // turb: one zeroed array per block of g (a transport model's two variables), ghosts too.
+  void allocate_turbulence(const Grid& g);
 };
 
 }  // namespace narwhal

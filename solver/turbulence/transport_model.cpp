@@ -61,8 +61,7 @@ TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) :
 
 void TransportModel::initialize(const Grid& g, FlowField& f, const FlowParams& fp, bool keep) {
   if (keep && f.turb.size() == g.blocks.size()) return;
-  f.turb.clear();
-  for (const Block& b : g.blocks) f.turb.emplace_back(b.ni, b.nj, b.nk, kGhost, TurbState::Zero());
+  f.allocate_turbulence(g);
   const TurbState inf = freestream(1.0 / fp.reynolds);
   for (auto& t : f.turb) t.fill(inf);
 }

@@ -85,18 +85,32 @@ def earth_velocity(m):
     ])
 
 
+def gravity_direction(gravity, whose):
+    """(unit vector, magnitude) of a gravity vector in earth axes: the grid's axes (the body
+    starts turned 180 degrees about z from them, x_B = -x, y_B = -y, z_B = z:
+    motion/grid_axes.hpp). `whose` names it in the error."""
+    g = np.array([float(v) for v in gravity])
+    size = float(np.linalg.norm(g))
+    if g.shape != (3,):
+        raise HarnessError(f"{whose}: [motion] gravity must be a vector of 3, got {list(gravity)}")
+    if size == 0.0:
+        raise HarnessError(f"{whose}: [motion] gravity is zero")
+    return g / size, size
+
+
+def fall_components(m, down):
+    """Per row of motion.csv: the body's velocity against gravity (negative when falling,
+    as Uhlmann & Dusek quote it) and the size of its part across gravity."""
+    v = earth_velocity(m)
+    along = v @ down
+    return -along, np.linalg.norm(v - np.outer(along, down), axis=1)
+
+
 def _gravity(ctx, run_id):
-    """The free body's gravity, (unit vector, magnitude), in earth axes: the grid's axes
-    (the body starts turned 180 degrees about z from them, x_B = -x, y_B = -y, z_B = z:
-    motion/grid_axes.hpp)."""
     motion = ctx.inputs[run_id].get("motion", {})
     if motion.get("type") != "free" or "gravity" not in motion:
         raise HarnessError(f"run '{run_id}' needs [motion] type = \"free\" with a gravity vector")
-    g = np.array([float(v) for v in motion["gravity"]])
-    size = float(np.linalg.norm(g))
-    if size == 0.0:
-        raise HarnessError(f"run '{run_id}': [motion] gravity is zero")
-    return g / size, size
+    return gravity_direction(motion["gravity"], f"run '{run_id}'")
 
 
 @extractor("fall_velocity", "part", "window")
@@ -113,14 +127,12 @@ def fall_velocity(ctx, spec, run_id):
     last = m["time"] >= m["time"][-1] - window
     if m["time"][-1] < 2.0 * window:
         raise HarnessError(f"fall_velocity: run '{run_id}' ends at t = {m['time'][-1]:g}, before twice the window {window:g}")
-    v = earth_velocity(m)[last]
-    along = v @ down
-    across = float(np.mean(np.linalg.norm(v - np.outer(along, down), axis=1)))
+    vertical, horizontal = (float(np.mean(c[last])) for c in fall_components(m, down))
     if part == "vertical":
-        return float(-np.mean(along))
+        return vertical
     if part == "horizontal":
-        return across
-    return math.degrees(math.atan2(across, float(np.mean(along))))
+        return horizontal
+    return math.degrees(math.atan2(horizontal, -vertical))
 
 
 @extractor("release_acceleration", "steps")

@@ -19,7 +19,7 @@ from . import browser  # noqa: E402
 from .body import (around, azimuthal_mean, meridian_stations, meridians, separation_azimuth,  # noqa: E402
                    with_crossflow_friction)
 from .extract import read_csv  # noqa: E402
-from .motion import axis_from_vertical_deg, earth_velocity  # noqa: E402
+from .motion import axis_from_vertical_deg, fall_components, gravity_direction  # noqa: E402
 from .solution import read_solution  # noqa: E402
 from .errors import HarnessError  # noqa: E402
 from .ladder import load_ladder  # noqa: E402
@@ -319,16 +319,13 @@ def _time_history(rung_dir, pic):
     if not path.exists():
         return None
     t = read_csv(path)
-    if column in ("vertical_velocity", "horizontal_speed") and name == "motion" and pic.get("gravity"):
-        down = np.asarray(pic["gravity"], float)
-        down = down / np.linalg.norm(down)
-        v = earth_velocity(t)
-        along = v @ down
-        values = -along if column == "vertical_velocity" else np.linalg.norm(v - np.outer(along, down), axis=1)
-        return t["time"], values, column.replace("_", " ")
-    if column == "axis_from_vertical" and name == "motion" and pic.get("gravity"):
-        down = np.asarray(pic["gravity"], float)
-        return t["time"], axis_from_vertical_deg(t, down / np.linalg.norm(down)), "axis from vertical [deg]"
+    if name == "motion" and pic.get("gravity") and column in ("vertical_velocity", "horizontal_speed",
+                                                               "axis_from_vertical"):
+        down, _ = gravity_direction(pic["gravity"], f"picture of run '{pic['run']}'")
+        if column == "axis_from_vertical":
+            return t["time"], axis_from_vertical_deg(t, down), "axis from vertical [deg]"
+        vertical, horizontal = fall_components(t, down)
+        return t["time"], vertical if column == "vertical_velocity" else horizontal, column.replace("_", " ")
     return (t["time"], t[column], column) if column in t else None
 
 
