@@ -32,6 +32,30 @@ def _release_acceleration(ref, p):
     return (r - 1.0) / (r + k)
 
 
+def _fall_velocity_standard_drag(ref, p):
+    """The vertical velocity (negative: falling, in u_g) at which the standard drag curve's
+    drag carries a sphere's weight less its buoyancy: U^2 C_D(Ga U) = 4/3 in units D and
+    u_g = sqrt((rho_s/rho_f - 1) g D), where Re = Ga U. C_D is interpolated in log-log
+    between the table's Reynolds numbers; U^2 C_D grows with U, so bisection finds it."""
+    re, cd = ref.column("Re"), ref.column("CD_CliftGraceWeber")
+    ga = p["galileo"]
+
+    def excess(u):
+        r = ga * u
+        if not re[0] <= r <= re[-1]:
+            raise HarnessError(f"fall_velocity_standard_drag: Re = {r:g} at Ga = {ga:g} is outside the table "
+                               f"({re[0]:g} to {re[-1]:g})")
+        return u * u * math.exp(np.interp(math.log(r), np.log(re), np.log(cd))) - 4.0 / 3.0
+
+    lo, hi = re[0] / ga, re[-1] / ga
+    if excess(lo) > 0.0 or excess(hi) < 0.0:
+        raise HarnessError(f"fall_velocity_standard_drag: no terminal velocity within the table at Ga = {ga:g}")
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if excess(mid) < 0.0 else (lo, mid)
+    return -0.5 * (lo + hi)
+
+
 def _potential_flow_cp(ref):
     """Cp(x/L) of potential flow about a body of revolution given by its offsets (columns
     x_over_LOA, r_over_LOA from nose to tail, suboff_hull_offsets.csv): a panel on each
@@ -59,6 +83,9 @@ DERIVED = {
     # r the density ratio, k Lamb's added-mass coefficient along the fall (k1 with the axis
     # vertical, lateral = 0; k2 across it, lateral = 1) from the row of the aspect ratio.
     "release_acceleration": lambda ref, p: _release_acceleration(ref, p),
+    # A sphere's terminal fall velocity at Galileo number Ga (params galileo) on the
+    # standard drag curve (column CD_CliftGraceWeber of sphere_drag_correlations.csv).
+    "fall_velocity_standard_drag": lambda ref, p: _fall_velocity_standard_drag(ref, p),
     # u/U_e = f'(eta)
     "blasius_profile": lambda ref, p: Curve(ref.column("eta"), ref.column("fp"), "Blasius f'(eta)"),
 }

@@ -166,5 +166,31 @@ class Fall(unittest.TestCase):
         self.assertAlmostEqual(got, 0.5 / 2.0, places=12)  # (1.5 - 1) / (1.5 + 1/2)
 
 
+class StandardDragFall(unittest.TestCase):
+    def setUp(self):
+        self.ref = ReferenceFile(REFERENCE_ROOT, "sphere/sphere_drag_correlations.csv")
+
+    def test_weight_less_buoyancy_equals_the_curve_s_drag(self):
+        ga = 600.0
+        u = -DERIVED["fall_velocity_standard_drag"](self.ref, {"galileo": ga})
+        re, cd = self.ref.column("Re"), self.ref.column("CD_CliftGraceWeber")
+        cd_at = math.exp(np.interp(math.log(ga * u), np.log(re), np.log(cd)))
+        self.assertAlmostEqual(u * u * cd_at, 4.0 / 3.0, places=10)
+        self.assertTrue(900.0 < ga * u < 1100.0)  # Re about 1000 at Ga = 600
+
+    def test_the_curve_holds_for_uhlmann_and_dusek_s_chaotic_fall(self):
+        # Their Ga = 250 sphere (regime D) falls at a mean -1.4604 u_g: a free sphere's mean
+        # drag is the fixed sphere's, to the curve's own accuracy (a few percent in C_D).
+        fall = ReferenceFile(REFERENCE_ROOT, "sphere/sphere_freefall_uhlmann_dusek2014.csv")
+        rows = fall.rows_where({"case": "D_L", "quantity": "mean_vertical_velocity"})
+        measured = float(fall.column("value", rows)[0])
+        predicted = DERIVED["fall_velocity_standard_drag"](self.ref, {"galileo": 250.0})
+        self.assertLess(abs(predicted / measured - 1.0), 0.02)
+
+    def test_a_galileo_number_off_the_table_is_an_error(self):
+        with self.assertRaisesRegex(HarnessError, "outside the table|no terminal velocity"):
+            DERIVED["fall_velocity_standard_drag"](self.ref, {"galileo": 1.0e6})
+
+
 if __name__ == "__main__":
     unittest.main()
