@@ -4,35 +4,21 @@
 
 namespace narwhal {
 
-DualTime::DualTime(const Grid& g, const TimeConfig& tc) : tc_(tc), term_(g, true) {
-  const std::size_t nb = g.blocks.size();
-  q_n_.resize(nb);
-  q_nm1_.resize(nb);
-  vol_n_.resize(nb);
-  vol_nm1_.resize(nb);
-  for (std::size_t ib = 0; ib < nb; ++ib) {
-    if (!g.owns(ib)) continue;
-    const Block& b = g.blocks[ib];
-    for (auto* q : {&q_n_[ib], &q_nm1_[ib]}) q->resize(b.ni, b.nj, b.nk, 0, State::Zero());
-    for (auto* v : {&vol_n_[ib], &vol_nm1_[ib]}) v->resize(b.ni, b.nj, b.nk, 0, 0.0);
-  }
-}
-
-namespace {
-void allocate_like(const Grid& g, std::vector<GhostArray<TurbState>>& levels) {
-  levels.resize(g.blocks.size());
-  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
-    if (g.owns(ib)) levels[ib].resize(g.blocks[ib].ni, g.blocks[ib].nj, g.blocks[ib].nk, 0, TurbState::Zero());
-}
-}  // namespace
+DualTime::DualTime(const Grid& g, const TimeConfig& tc)
+    : tc_(tc),
+      term_(g, true),
+      q_n_(owned_cell_arrays(g, State(State::Zero()))),
+      q_nm1_(q_n_),
+      vol_n_(owned_cell_arrays(g, Real(0.0))),
+      vol_nm1_(vol_n_) {}
 
 void DualTime::begin_step(const Grid& g, const FlowField& f) {
   std::swap(q_n_, q_nm1_);
   std::swap(vol_n_, vol_nm1_);
   std::swap(turb_n_, turb_nm1_);
   if (!f.turb.empty() && turb_n_.empty()) {
-    allocate_like(g, turb_n_);
-    allocate_like(g, turb_nm1_);
+    turb_n_ = owned_cell_arrays(g, TurbState(TurbState::Zero()));
+    turb_nm1_ = turb_n_;
   }
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     if (!g.owns(ib)) continue;
@@ -68,8 +54,8 @@ void DualTime::save_previous(const Grid& g, FlowField& f) const {
 
 void DualTime::restore(const Grid& g, const FlowField& previous, int step, Real time) {
   if (!previous.turb.empty() && turb_n_.empty()) {
-    allocate_like(g, turb_n_);
-    allocate_like(g, turb_nm1_);
+    turb_n_ = owned_cell_arrays(g, TurbState(TurbState::Zero()));
+    turb_nm1_ = turb_n_;
   }
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     if (!g.owns(ib)) continue;

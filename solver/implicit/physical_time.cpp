@@ -3,13 +3,7 @@
 namespace narwhal {
 
 PhysicalTimeTerm::PhysicalTimeTerm(const Grid& g, bool holds_old_levels) : holds_old_levels_(holds_old_levels) {
-  if (!holds_old_levels) return;
-  old_.resize(g.blocks.size());
-  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
-    if (!g.owns(ib)) continue;
-    const Block& b = g.blocks[ib];
-    old_[ib].resize(b.ni, b.nj, b.nk, 0, Vec3::Zero());
-  }
+  if (holds_old_levels) old_ = owned_cell_arrays(g, Vec3(Vec3::Zero()));
 }
 
 void PhysicalTimeTerm::set_old_levels(const Grid& g, const std::vector<GhostArray<Real>>& vol_n,
@@ -19,11 +13,7 @@ void PhysicalTimeTerm::set_old_levels(const Grid& g, const std::vector<GhostArra
                                       const std::vector<GhostArray<TurbState>>& turb_n,
                                       const std::vector<GhostArray<TurbState>>& turb_nm1) {
   if (!holds_old_levels_) return;
-  if (!turb_n.empty() && old_turb_.empty()) {
-    old_turb_.resize(g.blocks.size());
-    for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
-      if (g.owns(ib)) old_turb_[ib].resize(g.blocks[ib].ni, g.blocks[ib].nj, g.blocks[ib].nk, 0, TurbState::Zero());
-  }
+  if (!turb_n.empty() && old_turb_.empty()) old_turb_ = owned_cell_arrays(g, TurbState(TurbState::Zero()));
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     if (!g.owns(ib)) continue;
     for_each_cell(g.blocks[ib], [&](int i, int j, int k) {

@@ -178,4 +178,14 @@ void fill_ghost_nodes(Grid& g);
 // Full geometric preparation: ghost nodes then metrics of every block.
 void prepare_geometry(Grid& g);
 
+// One array of `value` per cell of each block this rank owns (no ghost layers; other
+// ranks' blocks: empty): per-cell data a solver keeps beside the flow field.
+template <class T>
+std::vector<GhostArray<T>> owned_cell_arrays(const Grid& g, const T& value) {
+  std::vector<GhostArray<T>> out(g.blocks.size());
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+    if (g.owns(ib)) out[ib].resize(g.blocks[ib].ni, g.blocks[ib].nj, g.blocks[ib].nk, 0, value);
+  return out;
+}
+
 }  // namespace narwhal
