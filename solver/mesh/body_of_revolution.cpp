@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "mesh/generators.hpp"
+#include "mesh/suboff_geometry.hpp"
 
 namespace narwhal {
 
@@ -23,38 +24,10 @@ BodyProfile spheroid_profile(Real length, Real ratio) {
           }};
 }
 
-// Groves, Huang & Chang (1989), DTRC/SHD-1298-01, Table 1 (reference_data/suboff/
-// suboff_geometry.md §2): the hull in model feet, x aft of the nose. The constants are
-// the report's; the profile is scaled so that the overall length is `length`.
+// The DARPA SUBOFF hull (mesh/suboff_geometry.hpp), scaled so that its overall length is `length`.
 BodyProfile suboff_profile(Real length) {
-  constexpr Real overall = 14.291667, r_max = 5.0 / 6.0;
-  constexpr Real bow_end = 3.333333, after_start = 10.645833, aft_perpendicular = 13.979167;
   return {"suboff", length, [length](Real x_scaled) {
-            const Real x = x_scaled / length * overall;
-            Real r = 0.0;
-            if (x <= bow_end) {
-              const Real a = 0.3 * x - 1.0, a3 = a * a * a, a4 = a3 * a;
-              const Real bracket = 1.126395101 * x * a4 + 0.442874707 * x * x * a3 + 1.0 - a4 * (1.2 * x + 1.0);
-              r = r_max * std::pow(std::max(0.0, bracket), 1.0 / 2.1);
-            } else if (x <= after_start) {
-              r = r_max;
-            } else if (x <= aft_perpendicular) {
-              constexpr Real rh = 0.1175, k0 = 10.0, k1 = 44.6244;
-              const Real xi = (aft_perpendicular - x) / 3.333333;
-              const Real xi2 = xi * xi, xi3 = xi2 * xi, xi4 = xi3 * xi, xi5 = xi4 * xi, xi6 = xi5 * xi;
-              const Real bracket = rh * rh + rh * k0 * xi2 + (20.0 - 20.0 * rh * rh - 4.0 * rh * k0 - k1 / 3.0) * xi3 +
-                                   (-45.0 + 45.0 * rh * rh + 6.0 * rh * k0 + k1) * xi4 +
-                                   (36.0 - 36.0 * rh * rh - 4.0 * rh * k0 - k1) * xi5 +
-                                   (-10.0 + 10.0 * rh * rh + rh * k0 + k1 / 3.0) * xi6;
-              r = r_max * std::sqrt(std::max(0.0, bracket));
-            } else {
-              // The cap: an ellipse of semi-axis 0.3125 ft centred on the aft perpendicular
-              // (the report's 3.2 x - 44.733333, written so that it closes exactly at the
-              // overall length: the printed constants leave -2.8e-6 at the tip).
-              const Real u = (x - aft_perpendicular) / (overall - aft_perpendicular);
-              r = 0.1175 * r_max * std::sqrt(std::max(0.0, 1.0 - u * u));
-            }
-            return r / overall * length;
+            return suboff::hull_radius(x_scaled / length * suboff::kOverallLength) / suboff::kOverallLength * length;
           }};
 }
 
