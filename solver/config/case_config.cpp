@@ -58,8 +58,72 @@ Vec3 free_stream_direction(const ConfigReader& r) {
   return free_stream_in_grid_axes(a, b);
 }
 
+// The wall spacing for a target y+ of the first cell centre (half the spacing), from the
+// flat-plate friction at the Reynolds number of `length`: the estimate the quality report
+// uses for its y+.
+Real spacing_for_y_plus(const ConfigReader& r, const std::string& key, Real length) {
+  const Real y_plus = r.number(key, "the target y+ of the wall cells' centres", Range::between(0.01, 300));
+  const Real re = r.number("flow.reynolds", "Re = U L / nu", Range::positive());
+  const Real friction_velocity = std::sqrt(0.5 * flat_plate_friction_estimate(re * length));
+  return 2.0 * y_plus / (re * friction_velocity);
+}
+
+// [grid] of type appended_suboff (mesh/appended_suboff.hpp). Cell counts are per stretch;
+// the first spacings follow y+ targets (hull: the hull's Reynolds number; appendages: their
+// own, on the stern appendages' mean chord) unless given as lengths.
+void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
+  a.configuration = r.string_or("grid.configuration", a.configuration, "the appendages: bare, sail, stern4 or sail_stern4");
+  const auto& names = suboff::configuration_names();
+  if (std::find(names.begin(), names.end(), a.configuration) == names.end() || a.configuration == "full")
+    r.error("grid.configuration", "expected one of bare, sail, stern4, sail_stern4, got '" + a.configuration + "'");
+  a.length = r.number_or("grid.length", a.length, "the overall length", Range::positive());
+  struct Count {
+    const char* key;
+    int* value;
+    const char* what;
+  };
+  const Count counts[] = {{"cells_bow", &a.cells_bow, "cells from the nose square to the sail's leading edge"},
+                          {"cells_sail", &a.cells_sail, "cells along the sail's chord"},
+                          {"cells_middle", &a.cells_middle, "cells from the sail to the stern appendages"},
+                          {"cells_fin", &a.cells_fin, "cells along the stern appendages' chord"},
+                          {"cells_stern", &a.cells_stern, "cells from the stern appendages to the tail square"},
+                          {"cells_around", &a.cells_around, "cells per 90-degree sector (even)"},
+                          {"cells_span", &a.cells_span, "cells from the hull to the appendages' tip level"},
+                          {"cells_outer", &a.cells_outer, "cells from the tip level to the far field"}};
+  for (const Count& c : counts)
+    *c.value = r.integer_or(std::string("grid.") + c.key, *c.value, c.what, Range::between(2, kMaxCellsPerDirection));
+  if (a.cells_around % 2 != 0)
+    r.error("grid.cells_around", fmt::format("expected an even count, got {}", a.cells_around));
+  a.far_field = r.number_or("grid.far_field", a.far_field, "the far-field distance in overall lengths", Range::at_least(1.0));
+  for (const char* k : {"first_spacing", "fin_spacing"})
+    if (r.has(std::string("grid.") + k + "_yplus") && r.has(std::string("grid.") + k))
+      r.error(std::string("grid.") + k + "_yplus", fmt::format("give either grid.{0} or grid.{0}_yplus, not both", k));
+  if (r.has("grid.first_spacing_yplus"))
+    a.first_spacing = spacing_for_y_plus(r, "grid.first_spacing_yplus", a.length);
+  else
+    a.first_spacing = r.number_or("grid.first_spacing", a.first_spacing, "the first spacing off the hull",
+                                  Range::between(0.0, 0.01 * a.length));
+  const Real fin_chord = 0.6 / suboff::kOverallLength * a.length;
+  if (r.has("grid.fin_spacing_yplus"))
+    a.fin_spacing = spacing_for_y_plus(r, "grid.fin_spacing_yplus", fin_chord);
+  else
+    a.fin_spacing = r.number_or("grid.fin_spacing", a.fin_spacing, "the first spacing off the appendages",
+                                Range::between(0.0, 0.01 * a.length));
+  a.tip_spacing = r.number_or("grid.tip_spacing", a.tip_spacing, "the spacing along the wall lines at the tip level",
+                              Range::between(0.0, 0.05 * a.length));
+  a.edge_spacing = r.number_or("grid.edge_spacing", a.edge_spacing,
+                               "the chordwise spacing at the appendages' leading and trailing edges",
+                               Range::between(0.0, 0.01 * a.length));
+  a.pole_spacing = r.number_or("grid.pole_spacing", a.pole_spacing, "the meridional spacing at nose and tail",
+                               Range::between(0.0, 0.01 * a.length));
+  a.sail_crest_slope = r.number_or("grid.sail_crest_slope", a.sail_crest_slope,
+                                   "the slope with which the sail's cap closes (0: the report's tangent crest)",
+                                   Range::between(0.0, 100.0));
+}
+
 void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g) {
-  g.type = r.string("grid.type", "one of flat_plate, box, perturbed_box, body_of_revolution, plot3d, cgns");
+  g.type = r.string("grid.type",
+                    "one of flat_plate, box, perturbed_box, body_of_revolution, appended_suboff, plot3d, cgns");
   if (g.type == "flat_plate") {
     auto& p = g.plate;
     p.x_runup = r.number_or("grid.runup", p.x_runup, "the run-up length ahead of the plate", Range::positive());
@@ -139,14 +203,7 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
     if (r.has("grid.first_spacing_yplus")) {
       if (r.has("grid.first_spacing"))
         r.error("grid.first_spacing_yplus", "give either grid.first_spacing or grid.first_spacing_yplus, not both");
-      // Spacing for a target y+ of the first cell centre (half the spacing), from the
-      // flat-plate friction at the body's Reynolds number: the estimate the quality
-      // report uses for its y+.
-      const Real y_plus = r.number("grid.first_spacing_yplus", "the target y+ of the wall cells' centres",
-                                   Range::between(0.01, 300));
-      const Real re = r.number("flow.reynolds", "Re = U L / nu", Range::positive());
-      const Real friction_velocity = std::sqrt(0.5 * flat_plate_friction_estimate(re * length));
-      b.first_spacing = 2.0 * y_plus / (re * friction_velocity);
+      b.first_spacing = spacing_for_y_plus(r, "grid.first_spacing_yplus", length);
     } else {
       b.first_spacing = r.number_or("grid.first_spacing", b.first_spacing, "the first wall-normal spacing",
                                     Range{0.0, b.far_field * length / b.cells_normal, true, false});
@@ -154,6 +211,8 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
     b.pole_spacing = r.number_or("grid.pole_spacing", 0.0,
                                  "the meridional spacing at nose and tail (0: a quarter of the mean)",
                                  Range::between(0.0, length / b.cells_along));
+  } else if (g.type == "appended_suboff") {
+    read_appended_suboff_grid(r, g.appended);
   } else if (g.type == "perturbed_box") {
     g.perturbed_cells = r.integer("grid.cells", "cells per direction of the unit box", Range::between(1, 512));
     // Beyond about a quarter of the box the perturbed cells fold over.
@@ -193,7 +252,8 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
       g.file_patches.push_back(p);
     }
   } else {
-    r.error("grid.type", "unknown grid type '" + g.type + "'; valid: flat_plate, box, perturbed_box, body_of_revolution, plot3d, cgns");
+    r.error("grid.type", "unknown grid type '" + g.type +
+                             "'; valid: flat_plate, box, perturbed_box, body_of_revolution, appended_suboff, plot3d, cgns");
   }
   if (r.has("grid.split")) {
     const Vec3 s = r.vec3("grid.split", "[parts_i, parts_j, parts_k]", Range::between(1, 64));
@@ -534,6 +594,12 @@ Grid build_grid_from(const CaseConfig& c, int balance_ranks) {
     g.blocks.push_back(make_box("box", gc.box_nodes[0], gc.box_nodes[1], gc.box_nodes[2]));
   } else if (gc.type == "body_of_revolution") {
     g = make_body_of_revolution(gc.body);
+  } else if (gc.type == "appended_suboff") {
+    try {
+      g = make_appended_suboff(gc.appended);
+    } catch (const Error& e) {
+      fail("{}: [grid]: {}", c.file, e.what());
+    }
   } else if (gc.type == "perturbed_box") {
     g.blocks.push_back(make_perturbed_box("box", gc.perturbed_cells, gc.perturbed_amplitude));
   } else if (gc.type == "plot3d" || gc.type == "cgns") {

@@ -9,6 +9,7 @@
 
 #include "implicit/newton.hpp"
 #include "mesh/block.hpp"
+#include "mesh/appended_suboff.hpp"
 #include "mesh/body_of_revolution.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/setup.hpp"
@@ -31,9 +32,10 @@ struct FilePatch {
 };
 
 struct GridConfig {
-  std::string type;  // flat_plate | box | perturbed_box | body_of_revolution | plot3d | cgns
+  std::string type;  // flat_plate | box | perturbed_box | body_of_revolution | appended_suboff | plot3d | cgns
   FlatPlateSpec plate;
   BodyGridSpec body;
+  AppendedSuboffSpec appended;
   std::array<std::vector<Real>, 3> box_nodes;  // box: node coordinates per direction
   int perturbed_cells = 8;
   Real perturbed_amplitude = 0.04;

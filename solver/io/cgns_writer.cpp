@@ -125,7 +125,8 @@ std::vector<int> write_grid_nodes(int fn, int base, const Grid& g) {
         for (int n = 0; n < 3; ++n)
           if (itf.T(n, m) != 0) transform[m] = itf.T(n, m) * (n + 1);
       int con = 0;
-      check(cg_1to1_write(fn, base, zone, fmt::format("{}_{}", p.label, ncon++).c_str(), d.name.c_str(), range,
+      // Named by number: CGNS names hold 32 characters, "interface:<donor>" can be longer.
+      check(cg_1to1_write(fn, base, zone, fmt::format("connection_{}", ncon++).c_str(), d.name.c_str(), range,
                           donor, transform, &con),
             "1-to-1 connection");
     }

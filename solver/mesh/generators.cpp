@@ -63,6 +63,70 @@ std::vector<Real> geometric_nodes_both_ends(Real a, Real b, int n, Real ds) {
   return x;
 }
 
+namespace {
+
+// u(t) = (1 + tanh(delta (t - 1/2)) / tanh(delta / 2)) / 2 clusters both ends alike,
+// u'(0) = u'(1) = delta / sinh(delta); s = u / (A + (1 - A) u) moves nodes towards one end
+// (s'(0) = u'(0) / A, s'(1) = A u'(1)).
+Real stretched(Real t, Real delta, Real a) {
+  const Real u = 0.5 * (1.0 + std::tanh(delta * (t - 0.5)) / std::tanh(0.5 * delta));
+  return u / (a + (1.0 - a) * u);
+}
+
+}  // namespace
+
+std::vector<Real> two_sided_nodes(Real a, Real b, int n, Real ds_a, Real ds_b) {
+  const Real span = b - a;
+  if (n < 2 || !(span > 0.0) || !(ds_a > 0.0) || !(ds_b > 0.0))
+    fail("two_sided_nodes: need n >= 2, b > a and positive spacings (n = {}, [{}, {}], {}, {})", n, a, b, ds_a, ds_b);
+  const Real s0 = ds_a / span, s1 = ds_b / span;
+  if (!(std::sqrt(s0 * s1) * n < 1.0))
+    fail("two_sided_nodes: end spacings {} and {} are not smaller than the mean spacing {} of [{}, {}] in {} cells",
+         ds_a, ds_b, span / n, a, b, n);
+  // Start: delta / sinh(delta) = n sqrt(s0 s1) (the ends' mean), A = sqrt(s1 / s0).
+  const Real target = n * std::sqrt(s0 * s1);
+  Real lo = 1e-8, hi = 1.0;
+  while (hi / std::sinh(hi) > target) hi *= 2.0;
+  for (int it = 0; it < 200; ++it) {
+    const Real mid = 0.5 * (lo + hi);
+    (mid / std::sinh(mid) > target ? lo : hi) = mid;
+  }
+  // Newton on (log delta, log A) for the exact discrete end spacings.
+  Real x[2] = {std::log(0.5 * (lo + hi)), 0.5 * std::log(s1 / s0)};
+  auto residual = [&](const Real* v, Real* f) {
+    const Real delta = std::exp(v[0]), aa = std::exp(v[1]);
+    f[0] = std::log(stretched(1.0 / n, delta, aa) / s0);
+    f[1] = std::log((1.0 - stretched(1.0 - 1.0 / n, delta, aa)) / s1);
+  };
+  for (int it = 0; it < 50; ++it) {
+    Real f[2], jac[2][2];
+    residual(x, f);
+    if (std::abs(f[0]) + std::abs(f[1]) < 1e-13) break;
+    for (int c = 0; c < 2; ++c) {
+      Real y[2] = {x[0], x[1]}, g[2];
+      const Real h = 1e-7;
+      y[c] += h;
+      residual(y, g);
+      jac[0][c] = (g[0] - f[0]) / h;
+      jac[1][c] = (g[1] - f[1]) / h;
+    }
+    const Real det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
+    if (det == 0.0) break;
+    x[0] -= (jac[1][1] * f[0] - jac[0][1] * f[1]) / det;
+    x[1] -= (-jac[1][0] * f[0] + jac[0][0] * f[1]) / det;
+  }
+  std::vector<Real> nodes(n + 1);
+  const Real delta = std::exp(x[0]), aa = std::exp(x[1]);
+  for (int i = 0; i <= n; ++i) nodes[i] = a + span * stretched(static_cast<Real>(i) / n, delta, aa);
+  nodes[0] = a;
+  nodes[n] = b;
+  Real f[2];
+  residual(x, f);
+  if (!(std::abs(f[0]) < 1e-8 && std::abs(f[1]) < 1e-8))
+    fail("two_sided_nodes: no stretching of [{}, {}] in {} cells has end spacings {} and {}", a, b, n, ds_a, ds_b);
+  return nodes;
+}
+
 Block make_box(const std::string& name, const std::vector<Real>& xs, const std::vector<Real>& ys,
                const std::vector<Real>& zs) {
   Block b(name, static_cast<int>(xs.size()) - 1, static_cast<int>(ys.size()) - 1, static_cast<int>(zs.size()) - 1);

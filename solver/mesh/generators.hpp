@@ -11,13 +11,17 @@ namespace narwhal {
 
 // 1-D node distributions (n cells -> n+1 nodes).
 std::vector<Real> uniform_nodes(Real a, Real b, int n);
-// Geometric growth away from `a` with first spacing ds (ds >= (b-a)/n required).
+// Geometric growth away from `a` with first spacing ds (ds <= (b-a)/n required).
 std::vector<Real> geometric_nodes(Real a, Real b, int n, Real ds_first);
 // Geometric growth towards `a` from `b`: last spacing (at b) is ds_last.
 std::vector<Real> geometric_nodes_to_end(Real a, Real b, int n, Real ds_last);
 // Geometric growth from both ends towards the middle, first spacing ds at each end
 // (n even; the two halves are mirror images: ducts and channels).
 std::vector<Real> geometric_nodes_both_ends(Real a, Real b, int n, Real ds);
+// Clustered at both ends with first spacing ds_a at a and last spacing ds_b at b, both
+// exact (a tanh stretching made asymmetric by a Moebius map of the unit interval).
+// Needs sqrt(ds_a ds_b) < (b - a) / n.
+std::vector<Real> two_sided_nodes(Real a, Real b, int n, Real ds_a, Real ds_b);
 
 // Tensor-product box; patches labelled "imin".."kmax" cover the six faces.
 Block make_box(const std::string& name, const std::vector<Real>& xs, const std::vector<Real>& ys,

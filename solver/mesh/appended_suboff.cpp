@@ -1,0 +1,330 @@
+#include "mesh/appended_suboff.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "mesh/generators.hpp"
+#include "mesh/meridian.hpp"
+
+namespace narwhal {
+namespace {
+
+using namespace revolution;
+
+// The arc length from the nose of the hull's meridian point at axial position x.
+Real arc_length_at(const Meridian& m, Real x) {
+  Real lo = 0.0, hi = m.length();
+  for (int it = 0; it < 100; ++it) {
+    const Real mid = 0.5 * (lo + hi);
+    (m.at(mid)[0] < x ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// A wall line leaving the hull at station i: along the appendages' direction u (in the
+// meridional plane, fin_weight 1 in a window, fading outside) up to the tip level, then
+// turning to the extrusion's direction over `release`.
+struct WallLine {
+  Real fin_weight = 0.0;
+  Real ux = 0.0, ur = 1.0;
+  Real d_tip = 0.0;
+  Real release = 1.0;
+};
+
+Vec3 line_node(const Extrusion& ex, const SurfacePoint& p, const WallLine& w, Real d) {
+  const Vec3 e = ex.direction(p, d);
+  if (w.fin_weight == 0.0) return p.x + d * e;
+  const Real weight = w.fin_weight * (1.0 - smoothstep((d - w.d_tip) / w.release));
+  const Vec3 u(w.ux, w.ur * p.dir[0], w.ur * p.dir[1]);
+  return p.x + d * ((1.0 - weight) * e + weight * u).normalized();
+}
+
+// The stations along the sector boundaries' meridian (arc lengths), the index ranges of
+// the two windows, and each station's wall line.
+struct Stations {
+  std::vector<Real> s;
+  int sail_first = 0, sail_last = 0, fin_first = 0, fin_last = 0;
+  std::vector<WallLine> lines;
+};
+
+std::vector<Real> joined(std::vector<Real> a, const std::vector<Real>& b) {
+  a.insert(a.end(), b.begin() + 1, b.end());
+  return a;
+}
+
+Stations make_stations(const AppendedSuboffSpec& spec, const Meridian& m, Real rho, Real ft) {
+  const Real S = m.length();
+  Stations st;
+  // The sail's window: stations at x, lines straight up (its sections do not change with height).
+  const suboff::Sail sail(spec.sail_crest_slope);
+  const std::vector<Real> x_sail = two_sided_nodes(suboff::Sail::kLeadingEdge, suboff::Sail::kTrailingEdge,
+                                                   spec.cells_sail, spec.edge_spacing / ft, spec.edge_spacing / ft);
+  std::vector<Real> s_sail;
+  std::vector<WallLine> sail_lines;
+  for (const Real x : x_sail) {
+    s_sail.push_back(arc_length_at(m, x * ft));
+    sail_lines.push_back({1.0, 0.0, 1.0, (sail.tip(x) - suboff::hull_radius(x)) * ft, 0.0});
+  }
+  // The stern appendages' window: lines of constant chord fraction xi, x = x_te - c(r) (1 - xi).
+  const auto fin = suboff::make_stern_appendage(suboff::SternAppendage::UpperRudder);
+  const auto& shape = fin->shape();
+  const Real mean_chord = fin->chord(0.5 * (0.4 + shape.tip_span));
+  const std::vector<Real> xi = two_sided_nodes(0.0, 1.0, spec.cells_fin, spec.edge_spacing / (ft * mean_chord),
+                                               spec.edge_spacing / (ft * mean_chord));
+  std::vector<Real> s_fin;
+  std::vector<WallLine> fin_lines;
+  for (const Real f : xi) {
+    // The line's foot on the hull: x - x_te + c(R(x)) (1 - xi) = 0 (monotone in x).
+    Real lo = shape.trailing_edge_x - 1.5, hi = shape.trailing_edge_x;
+    for (int it = 0; it < 100; ++it) {
+      const Real mid = 0.5 * (lo + hi);
+      (mid - shape.trailing_edge_x + fin->chord(suboff::hull_radius(mid)) * (1.0 - f) < 0.0 ? lo : hi) = mid;
+    }
+    const Real x_root = 0.5 * (lo + hi);
+    const Real slope = -shape.chord_slope * (1.0 - f);  // dx/dr along the line
+    const Real norm = std::hypot(slope, 1.0);
+    s_fin.push_back(arc_length_at(m, x_root * ft));
+    fin_lines.push_back({1.0, slope / norm, 1.0 / norm, (shape.tip_span - suboff::hull_radius(x_root)) * ft * norm, 0.0});
+  }
+  if (!(s_sail.back() < s_fin.front())) fail("appended SUBOFF grid: the sail's window overlaps the stern's");
+
+  // The stretches between the windows, their end spacings matched to the windows'.
+  const Real pole_ds = spec.pole_spacing;
+  const auto bow = two_sided_nodes(rho, s_sail.front(), spec.cells_bow, pole_ds, s_sail[1] - s_sail[0]);
+  const auto middle = two_sided_nodes(s_sail.back(), s_fin.front(), spec.cells_middle,
+                                      s_sail.back() - s_sail[s_sail.size() - 2], s_fin[1] - s_fin[0]);
+  const auto stern = two_sided_nodes(s_fin.back(), S - rho, spec.cells_stern, s_fin.back() - s_fin[s_fin.size() - 2],
+                                     pole_ds);
+  st.s = joined(joined(joined(joined(bow, s_sail), middle), s_fin), stern);
+  st.sail_first = spec.cells_bow;
+  st.sail_last = st.sail_first + spec.cells_sail;
+  st.fin_first = st.sail_last + spec.cells_middle;
+  st.fin_last = st.fin_first + spec.cells_fin;
+
+  // Each station's line. Outside the windows the appendages' direction fades over one
+  // chord, and the tip level follows the nearer window's (blended across the middle).
+  const int nl = static_cast<int>(st.s.size()) - 1;
+  st.lines.resize(st.s.size());
+  const Real sail_reach = (suboff::Sail::kTrailingEdge - suboff::Sail::kLeadingEdge) * ft;
+  const Real fin_reach = fin->chord(0.4) * ft;
+  for (int i = 0; i <= nl; ++i) {
+    const Real s = st.s[static_cast<std::size_t>(i)];
+    WallLine w;
+    if (i >= st.sail_first && i <= st.sail_last) {
+      w = sail_lines[static_cast<std::size_t>(i - st.sail_first)];
+    } else if (i >= st.fin_first && i <= st.fin_last) {
+      w = fin_lines[static_cast<std::size_t>(i - st.fin_first)];
+    } else if (i < st.sail_first) {
+      w = sail_lines.front();
+      w.fin_weight = 1.0 - smoothstep((s_sail.front() - s) / sail_reach);
+    } else if (i > st.fin_last) {
+      w = fin_lines.back();
+      w.fin_weight = 1.0 - smoothstep((s - s_fin.back()) / fin_reach);
+    } else {
+      const Real after_sail = s - s_sail.back(), before_fin = s_fin.front() - s;
+      w = after_sail < before_fin ? sail_lines.back() : fin_lines.front();
+      w.fin_weight = 1.0 - smoothstep(std::min(after_sail / sail_reach, before_fin / fin_reach));
+      const Real blend = smoothstep(after_sail / (after_sail + before_fin));
+      w.d_tip = (1.0 - blend) * sail_lines.back().d_tip + blend * fin_lines.front().d_tip;
+    }
+    w.release = w.d_tip;
+    st.lines[static_cast<std::size_t>(i)] = w;
+  }
+  return st;
+}
+
+// Distances along a wall line: clustered at the hull and at the tip level (k = cells_span).
+std::vector<Real> line_distances(const AppendedSuboffSpec& spec, Real d_tip) {
+  return joined(two_sided_nodes(0.0, d_tip, spec.cells_span, spec.first_spacing, spec.tip_spacing),
+                geometric_nodes(d_tip, spec.far_field * spec.length, spec.cells_outer, spec.tip_spacing));
+}
+
+// Wraps a sector's boundary plane at azimuth phi0 around an appendage: each node of the
+// window turned about the hull axis by the angle that puts the boundary node on the
+// appendage's surface at its own radius (hull nodes stay on the hull), the turn fading
+// with the angular distance from the plane.
+void wrap_appendage(Block& b, const Azimuth& az, int sector, bool boundary_at_j0, const suboff::Appendage& a,
+                    int i_first, int i_last, int k_tip, Real ft) {
+  const int na = az.na;
+  const int jb = boundary_at_j0 ? 0 : na;
+  const Real turn_sign = boundary_at_j0 ? -1.0 : 1.0;  // into the sector
+  const Real phi0 = az.phi((sector + 1) * na - jb);
+  for (int i = i_first + 1; i < i_last; ++i)
+    for (int k = 0; k < k_tip; ++k) {
+      const Vec3 on_plane = b.x(i, jb, k);
+      const Real x = on_plane[0] / ft, r = std::hypot(on_plane[1], on_plane[2]) / ft;
+      // The span coordinate s of the surface point at radius r: s^2 + t(x, s)^2 = r^2.
+      Real s = r, t = 0.0;
+      for (int it = 0; it < 60; ++it) {
+        t = a.half_thickness(x, s);
+        const Real next = std::sqrt(std::max(0.0, r * r - t * t));
+        if (std::abs(next - s) < 1e-15 * r) break;
+        s = next;
+      }
+      const Real angle = turn_sign * std::atan2(t, s);
+      if (angle == 0.0) continue;
+      // The turn fades over four times its own angle (at most the sector): the map
+      // phi -> phi + angle w(phi / reach) stays monotone (|w'| <= 1.5), and where the
+      // thickness falls to zero (edges, the tip's crest) only the nodes near the plane turn,
+      // so the nodes further out do not shear against the untouched ones beyond the edge.
+      const Real reach = std::min(0.5 * kPi, 4.0 * std::abs(angle));
+      for (int j = 0; j <= na; ++j) {
+        const Real apart = std::abs(az.phi((sector + 1) * na - j) - phi0);
+        const Real w = 1.0 - smoothstep(std::min(apart, 2.0 * kPi - apart) / reach);
+        if (w == 0.0) continue;
+        const Real c = std::cos(angle * w), sn = std::sin(angle * w);
+        Vec3& p = b.x(i, j, k);
+        const Real y = p[1], z = p[2];
+        p[1] = c * y - sn * z;
+        p[2] = sn * y + c * z;
+      }
+    }
+}
+
+void add_hull_patches(Block& b) {
+  for (const int side : {4, 5}) {
+    Patch p;
+    p.side = side;
+    p.lo = {0, 0, 0};
+    p.hi = b.dims();
+    p.label = side == 5 ? "farfield" : "body";
+    b.patches.push_back(p);
+  }
+}
+
+}  // namespace
+
+Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
+  const int na = spec.cells_around;
+  if (na < 2 || na % 2 != 0) fail("appended SUBOFF grid: cells_around ({}) must be even", na);
+  if (spec.deflections.rudder != 0.0 || spec.deflections.stern_planes != 0.0 || spec.deflections.sail_planes != 0.0)
+    fail("appended SUBOFF grid: deflected control surfaces are not meshed yet");
+  const suboff::Configuration config =
+      suboff::make_configuration(spec.configuration, spec.deflections, spec.sail_crest_slope);
+  if (spec.configuration == "full") fail("appended SUBOFF grid: the sail planes ('full') are not meshed yet");
+
+  const Real L = spec.length, ft = L / suboff::kOverallLength;
+  const BodyProfile profile = suboff_profile(L);
+  const Meridian m(profile);
+  const Real S = m.length();
+  const Real rho = na * spec.pole_spacing / std::sqrt(2.0);
+  const Stations st = make_stations(spec, m, rho, ft);
+  const int nl = static_cast<int>(st.s.size()) - 1, nk = spec.cells_span + spec.cells_outer;
+
+  // Azimuths clustered at the sector boundaries: the first spacing off an appendage is
+  // fin_spacing at the largest radius an appendage reaches (the sail's crest).
+  Azimuth az{na, {}};
+  const Real crest = suboff::Sail(spec.sail_crest_slope).tip(3.45) * ft;
+  az.within = geometric_nodes_both_ends(0.0, 0.5 * kPi, na, spec.fin_spacing / crest);
+
+  BodyGridSpec es;
+  es.far_field = spec.far_field;
+  es.cells_normal = 1;
+  es.first_spacing = spec.far_field * L;
+  const Extrusion ex(es, m, L);
+
+  // Near the poles the stations of an off-boundary meridian shift with its square edge
+  // (re, not rho), as in body_of_revolution.cpp; elsewhere every meridian has the boundary's.
+  auto pole_shift = [&](Real s) {
+    const Real f = (s - rho) / (S - 2.0 * rho), reach = 0.05;
+    if (f < reach) return std::pow(1.0 - f / reach, 2);
+    if (f > 1.0 - reach) return -std::pow(1.0 - (1.0 - f) / reach, 2);
+    return 0.0;
+  };
+  std::vector<std::vector<Real>> distances;
+  for (const auto& w : st.lines) distances.push_back(line_distances(spec, w.d_tip));
+
+  Grid g;
+  for (int sector = 0; sector < 4; ++sector) {
+    Block b(fmt::format("sector_{}", sector * 90), nl, na, nk);
+    for (int j = 0; j <= na; ++j) {
+      const int ma = (sector + 1) * na - j;
+      const auto end = diamond(rho, az, ma);
+      const Real re = std::hypot(end[0], end[1]);
+      for (int i = 0; i <= nl; ++i) {
+        const std::size_t ui = static_cast<std::size_t>(i);
+        const SurfacePoint p = i == 0 || i == nl ? near_pole(m, end, i == nl)
+                                                 : surface(m, st.s[ui] + (re - rho) * pole_shift(st.s[ui]), az.unit(ma));
+        for (int k = 0; k <= nk; ++k) b.x(i, j, k) = line_node(ex, p, st.lines[ui], distances[ui][static_cast<std::size_t>(k)]);
+      }
+    }
+    add_hull_patches(b);
+    g.blocks.push_back(std::move(b));
+  }
+
+  // The appendages: each in the boundary plane its span direction points to.
+  for (const auto& a : config.appendages) {
+    const Vec3 span = suboff::to_grid_axes(a->span_direction);
+    const Real phi0 = std::atan2(span[2], span[1]);
+    const int q = (static_cast<int>(std::lround(phi0 / (0.5 * kPi))) + 4) % 4;
+    const bool is_sail = a->name() == "sail";
+    const int i_first = is_sail ? st.sail_first : st.fin_first, i_last = is_sail ? st.sail_last : st.fin_last;
+    // Sector q has the boundary at j = na, sector q - 1 at j = 0.
+    for (const int sector : {q, (q + 3) % 4}) {
+      const bool at_j0 = sector != q;
+      Block& b = g.blocks[static_cast<std::size_t>(sector)];
+      wrap_appendage(b, az, sector, at_j0, *a, i_first, i_last, spec.cells_span, ft);
+      Patch p;
+      p.side = at_j0 ? 2 : 3;
+      p.lo = {i_first, 0, 0};
+      p.hi = {i_last, na, spec.cells_span};
+      p.label = a->name();
+      b.patches.push_back(p);
+    }
+  }
+
+  // The pole squares, as in body_of_revolution.cpp, with their meridians' lines.
+  auto edge = [&](int ma) { return diamond(rho, az, ma); };
+  for (const bool tail : {false, true}) {
+    const std::size_t line = tail ? static_cast<std::size_t>(nl) : 0;
+    Block b(tail ? "tail" : "nose", na, na, nk);
+    for (int ia = 0; ia <= na; ++ia)
+      for (int ib = 0; ib <= na; ++ib) {
+        const Real a = static_cast<Real>(ia) / na, c = static_cast<Real>(ib) / na;
+        const auto b0 = edge(3 * na + ia), b1 = edge(2 * na - ia);
+        const auto a0 = edge(3 * na - ib), a1 = edge(ib);
+        const auto k3 = edge(3 * na), k0 = edge(0), k1 = edge(na), k2 = edge(2 * na);
+        std::array<Real, 2> xy{};
+        for (int d = 0; d < 2; ++d)
+          xy[d] = (1 - c) * b0[d] + c * b1[d] + (1 - a) * a0[d] + a * a1[d] -
+                  ((1 - a) * (1 - c) * k3[d] + a * (1 - c) * k0[d] + a * c * k1[d] + (1 - a) * c * k2[d]);
+        if (ib == 0) xy = b0;
+        if (ib == na) xy = b1;
+        if (ia == 0) xy = a0;
+        if (ia == na) xy = a1;
+        const SurfacePoint p = near_pole(m, xy, tail);
+        for (int k = 0; k <= nk; ++k) {
+          const Vec3 x = line_node(ex, p, st.lines[line], distances[line][static_cast<std::size_t>(k)]);
+          if (tail)
+            b.x(ia, ib, k) = x;
+          else
+            b.x(ib, ia, k) = x;
+        }
+      }
+    add_hull_patches(b);
+    g.blocks.push_back(std::move(b));
+  }
+
+  // Cut the blocks where the appendages' faces end, so that every face is either a whole
+  // wall or a whole interface.
+  static constexpr const char* stretch[] = {"bow", "sail", "middle", "fin", "stern"};
+  const std::vector<int> i_cuts{0, st.sail_first, st.sail_last, st.fin_first, st.fin_last, nl};
+  const std::vector<int> k_cuts{0, spec.cells_span, nk};
+  Grid cut;
+  for (const Block& b : g.blocks) {
+    const bool square = b.name == "nose" || b.name == "tail";
+    const std::vector<int> ic = square ? std::vector<int>{0, na} : i_cuts;
+    for (std::size_t a = 0; a + 1 < ic.size(); ++a)
+      for (std::size_t c = 0; c + 1 < k_cuts.size(); ++c) {
+        const std::string name = square ? fmt::format("{}_{}", b.name, c == 0 ? "inner" : "outer")
+                                        : fmt::format("{}_{}_{}", b.name, stretch[a], c == 0 ? "inner" : "outer");
+        cut.blocks.push_back(extract_block(b, name, {ic[a], 0, k_cuts[c]}, {ic[a + 1], b.nj, k_cuts[c + 1]}));
+      }
+  }
+  return cut;  // the free faces are connected by finalize_grid (mesh/setup.hpp)
+}
+
+}  // namespace narwhal

@@ -1,0 +1,162 @@
+// Grids around the appended SUBOFF (mesh/appended_suboff.hpp): whole-face blocks, nodes
+// on the hull and on the appendages, free-stream preservation, and the same grid away
+// from the appendages for every configuration.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "mesh/appended_suboff.hpp"
+#include "mesh/grid_quality.hpp"
+#include "mesh/setup.hpp"
+#include "physics/residual.hpp"
+#include "test_support.hpp"
+
+namespace narwhal {
+namespace {
+
+const std::vector<std::string> kAppendageLabels{"sail", "upper_rudder", "lower_rudder", "starboard_stern_plane",
+                                                "port_stern_plane"};
+
+AppendedSuboffSpec small_spec(const std::string& configuration) {
+  AppendedSuboffSpec s;
+  s.configuration = configuration;
+  s.cells_bow = 8;
+  s.cells_sail = 8;
+  s.cells_middle = 8;
+  s.cells_fin = 8;
+  s.cells_stern = 8;
+  s.cells_around = 8;
+  s.cells_span = 8;
+  s.cells_outer = 8;
+  s.first_spacing = 1e-4;
+  s.fin_spacing = 1e-4;
+  s.tip_spacing = 1e-3;
+  s.edge_spacing = 2e-3;
+  s.pole_spacing = 1e-3;
+  return s;
+}
+
+Grid finalized(const AppendedSuboffSpec& s) {
+  Grid g = make_appended_suboff(s);
+  for (const auto& label : kAppendageLabels) assign_bc(g, label, {BcType::Dirichlet});
+  assign_bc(g, "body", {BcType::Dirichlet});
+  assign_bc(g, "farfield", {BcType::Dirichlet});
+  finalize_grid(g);  // connects the blocks, refuses non-positive volumes
+  return g;
+}
+
+Real free_stream_residual(Grid& g) {
+  const std::vector<GhostArray<State>> R =
+      test::uniform_state_residual(g, (State() << 0.3, 0.7, -0.2, 0.1).finished());
+  Real worst = 0.0;
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    const Block& b = g.blocks[ib];
+    for (int k = 0; k < b.nk; ++k)
+      for (int j = 0; j < b.nj; ++j)
+        for (int i = 0; i < b.ni; ++i) {
+          Real faces = 0.0;
+          for (int d = 0; d < 3; ++d) {
+            Index3 hi{i, j, k};
+            ++hi[d];
+            faces += b.S[d](i, j, k).norm() + b.S[d](hi).norm();
+          }
+          worst = std::max(worst, R[ib](i, j, k).cwiseAbs().maxCoeff() / faces);
+        }
+  }
+  return worst;
+}
+
+TEST(AppendedSuboff, EveryConfigurationIsWholeFacedClosedAndPreservesTheFreeStream) {
+  for (const std::string c : {"bare", "sail", "stern4", "sail_stern4"}) {
+    Grid g = finalized(small_spec(c));
+    EXPECT_EQ(g.blocks.size(), 44u) << c;
+    for (const int node : {0, 1, 3}) EXPECT_LT(test::interface_ghost_node_mismatch(g, node), 1e-12) << c;
+    const Real r = free_stream_residual(g);
+    EXPECT_LT(r, 1e-12) << c;
+    RecordProperty(c + "_relative_free_stream_residual", fmt::format("{:.2e}", r));
+    const GridQuality q = measure_grid_quality(g, {"body", "sail", "upper_rudder"}, 1.3e7);
+    RecordProperty(c + "_quality", format_grid_quality(q));
+  }
+}
+
+// Each appendage's wall nodes lie on its surface (|n| = t(x, s) in its own plane) or on
+// its planform's edge, the hull's on the hull.
+TEST(AppendedSuboff, WallNodesLieOnTheHullAndOnTheAppendages) {
+  const AppendedSuboffSpec s = small_spec("sail_stern4");
+  const Grid g = make_appended_suboff(s);
+  const suboff::Configuration config = suboff::make_configuration("sail_stern4", {}, s.sail_crest_slope);
+  const Real ft = s.length / suboff::kOverallLength;
+  int checked = 0;
+  Real worst_fin = 0.0, worst_hull = 0.0;
+  for (const Block& b : g.blocks)
+    for (const Patch& p : b.patches) {
+      const int d = side_dir(p.side);
+      const int fixed = side_high(p.side) ? b.n(d) : 0;
+      for (int v = p.lo[(d + 2) % 3]; v <= p.hi[(d + 2) % 3]; ++v)
+        for (int u = p.lo[(d + 1) % 3]; u <= p.hi[(d + 1) % 3]; ++u) {
+          Index3 n{};
+          n[d] = fixed;
+          n[(d + 1) % 3] = u;
+          n[(d + 2) % 3] = v;
+          const Vec3 x = b.x(n);
+          if (p.label == "body") {
+            worst_hull = std::max(worst_hull, std::abs(std::hypot(x[1], x[2]) - suboff::hull_radius(x[0] / ft) * ft));
+            continue;
+          }
+          if (p.label == "farfield") continue;
+          const auto& a = *std::find_if(config.appendages.begin(), config.appendages.end(),
+                                        [&](const auto& q) { return q->name() == p.label; });
+          // Back to the SUBOFF frame (grid = (x, z_s, -y_s)), then to the appendage's plane.
+          const Vec3 q(x[0] / ft, -x[2] / ft, x[1] / ft);
+          const Real span = q.dot(a->span_direction), offset = q.dot(a->offset_direction);
+          // The planform's edges (leading and trailing edge, tip) stay in the plane; there
+          // the thickness grows like a square root, so check the distance to the edge.
+          const Real miss = offset == 0.0 ? std::min({std::abs(q[0] - a->leading_edge(span)),
+                                                      std::abs(q[0] - a->trailing_edge(span)),
+                                                      std::abs(span - a->tip(q[0]))})
+                                          : std::abs(std::abs(offset) - a->half_thickness(q[0], span));
+          worst_fin = std::max(worst_fin, miss);
+          ++checked;
+        }
+    }
+  EXPECT_GT(checked, 5 * 8 * 8);
+  // The hull's meridian is sampled (40 000 points) and interpolated linearly, which puts
+  // the window's feet within about 1e-9 ft of the hull, and the edges with them.
+  EXPECT_LT(worst_fin, 1e-8);  // feet
+  EXPECT_LT(worst_hull, 1e-6 * s.length);
+  RecordProperty("largest_offset_from_appendage_ft", fmt::format("{:.2e}", worst_fin));
+  RecordProperty("largest_offset_from_hull_ft", fmt::format("{:.2e}", worst_hull / ft));
+}
+
+// The configurations share every node away from the appendages' windows: appendage
+// increments carry no grid change elsewhere.
+TEST(AppendedSuboff, ConfigurationsShareTheGridAwayFromTheAppendages) {
+  const Grid bare = make_appended_suboff(small_spec("bare"));
+  const Grid full = make_appended_suboff(small_spec("sail_stern4"));
+  ASSERT_EQ(bare.blocks.size(), full.blocks.size());
+  int compared = 0, differing = 0;
+  for (std::size_t ib = 0; ib < bare.blocks.size(); ++ib) {
+    const Block& a = bare.blocks[ib];
+    const Block& b = full.blocks[ib];
+    ASSERT_EQ(a.name, b.name);
+    const bool window = a.name.find("_sail_inner") != std::string::npos || a.name.find("_fin_inner") != std::string::npos;
+    for (int k = 0; k <= a.nk; ++k)
+      for (int j = 0; j <= a.nj; ++j)
+        for (int i = 0; i <= a.ni; ++i) {
+          const bool same = a.x(i, j, k) == b.x(i, j, k);
+          if (window) {
+            differing += !same;
+          } else {
+            ++compared;
+            EXPECT_TRUE(same) << a.name << " node " << i << ", " << j << ", " << k;
+          }
+        }
+  }
+  EXPECT_GT(compared, 0);
+  EXPECT_GT(differing, 0);
+}
+
+}  // namespace
+}  // namespace narwhal
