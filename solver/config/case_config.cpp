@@ -435,6 +435,15 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
     bc.pressure = r.number_or(pre + "pressure", 0.0, "the outflow pressure");
     c.bcs[label] = bc;
   }
+  // An appended hull's appendages are walls like the hull: each one not given its own
+  // [bc.<name>] takes [bc.body]'s, so that one case file serves every configuration.
+  if (c.grid.type == "appended_suboff") {
+    const auto body = c.bcs.find("body");
+    if (body == c.bcs.end()) r.error("bc.body", "an appended_suboff grid needs [bc.body] (its appendages take it too)");
+    const PatchBc hull = body->second;
+    for (const auto& a : suboff::make_configuration(c.grid.appended.configuration).appendages)
+      c.bcs.try_emplace(a->name(), hull);
+  }
   const std::size_t np = r.array_size("periodic");
   for (std::size_t i = 0; i < np; ++i) {
     const std::string pre = fmt::format("periodic[{}].", i);

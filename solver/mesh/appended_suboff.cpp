@@ -28,6 +28,7 @@ Real arc_length_at(const Meridian& m, Real x) {
 // meridional plane, fin_weight 1 in a window, fading outside) up to the tip level, then
 // turning to the extrusion's direction over `release`.
 struct WallLine {
+  bool near_sail = false;  // the window it follows: the sail's or the stern appendages'
   Real fin_weight = 0.0;
   Real ux = 0.0, ur = 1.0;
   Real d_tip = 0.0;
@@ -66,7 +67,7 @@ Stations make_stations(const AppendedSuboffSpec& spec, const Meridian& m, Real r
   std::vector<WallLine> sail_lines;
   for (const Real x : x_sail) {
     s_sail.push_back(arc_length_at(m, x * ft));
-    sail_lines.push_back({1.0, 0.0, 1.0, (sail.tip(x) - suboff::hull_radius(x)) * ft, 0.0});
+    sail_lines.push_back({true, 1.0, 0.0, 1.0, (sail.tip(x) - suboff::hull_radius(x)) * ft, 0.0});
   }
   // The stern appendages' window: lines of constant chord fraction xi, x = x_te - c(r) (1 - xi).
   const auto fin = suboff::make_stern_appendage(suboff::SternAppendage::UpperRudder);
@@ -87,7 +88,8 @@ Stations make_stations(const AppendedSuboffSpec& spec, const Meridian& m, Real r
     const Real slope = -shape.chord_slope * (1.0 - f);  // dx/dr along the line
     const Real norm = std::hypot(slope, 1.0);
     s_fin.push_back(arc_length_at(m, x_root * ft));
-    fin_lines.push_back({1.0, slope / norm, 1.0 / norm, (shape.tip_span - suboff::hull_radius(x_root)) * ft * norm, 0.0});
+    fin_lines.push_back(
+        {false, 1.0, slope / norm, 1.0 / norm, (shape.tip_span - suboff::hull_radius(x_root)) * ft * norm, 0.0});
   }
   if (!(s_sail.back() < s_fin.front())) fail("appended SUBOFF grid: the sail's window overlaps the stern's");
 
@@ -109,7 +111,7 @@ Stations make_stations(const AppendedSuboffSpec& spec, const Meridian& m, Real r
   const int nl = static_cast<int>(st.s.size()) - 1;
   st.lines.resize(st.s.size());
   const Real sail_reach = (suboff::Sail::kTrailingEdge - suboff::Sail::kLeadingEdge) * ft;
-  const Real fin_reach = fin->chord(0.4) * ft;
+  const Real fin_reach = 0.4 * ft;  // clear of the tail's pole stretch (pole_shift)
   for (int i = 0; i <= nl; ++i) {
     const Real s = st.s[static_cast<std::size_t>(i)];
     WallLine w;
@@ -136,6 +138,31 @@ Stations make_stations(const AppendedSuboffSpec& spec, const Meridian& m, Real r
   return st;
 }
 
+// The azimuths within a sector as a blend of four distributions from its j = 0 boundary:
+// uniform, clustered at j = 0, at j = na, or at both (first spacing `first`), weighted
+// bilinearly by how strongly each end clusters. A blend with non-negative weights of
+// increasing sequences increases: no fold, whatever the weights.
+class AzimuthBlend {
+ public:
+  AzimuthBlend(int na, Real first) : uniform_(uniform_nodes(0.0, 0.5 * kPi, na)) {
+    const Real quarter = 0.5 * kPi, mean = quarter / na;
+    both_ = two_sided_nodes(0.0, quarter, na, first, first);
+    low_ = two_sided_nodes(0.0, quarter, na, first, mean);
+    high_.resize(low_.size());
+    for (std::size_t j = 0; j < low_.size(); ++j) high_[j] = quarter - low_[low_.size() - 1 - j];
+  }
+  std::vector<Real> within(Real at_j0, Real at_jn) const {
+    std::vector<Real> a(uniform_.size());
+    for (std::size_t j = 0; j < a.size(); ++j)
+      a[j] = (1.0 - at_j0) * (1.0 - at_jn) * uniform_[j] + at_j0 * (1.0 - at_jn) * low_[j] +
+             (1.0 - at_j0) * at_jn * high_[j] + at_j0 * at_jn * both_[j];
+    return a;
+  }
+
+ private:
+  std::vector<Real> uniform_, both_, low_, high_;
+};
+
 // Distances along a wall line: clustered at the hull and at the tip level (k = cells_span).
 std::vector<Real> line_distances(const AppendedSuboffSpec& spec, Real d_tip) {
   return joined(two_sided_nodes(0.0, d_tip, spec.cells_span, spec.first_spacing, spec.tip_spacing),
@@ -146,12 +173,12 @@ std::vector<Real> line_distances(const AppendedSuboffSpec& spec, Real d_tip) {
 // window turned about the hull axis by the angle that puts the boundary node on the
 // appendage's surface at its own radius (hull nodes stay on the hull), the turn fading
 // with the angular distance from the plane.
-void wrap_appendage(Block& b, const Azimuth& az, int sector, bool boundary_at_j0, const suboff::Appendage& a,
-                    int i_first, int i_last, int k_tip, Real ft) {
-  const int na = az.na;
+void wrap_appendage(Block& b, int sector, bool boundary_at_j0, const suboff::Appendage& a, int i_first, int i_last,
+                    int k_tip, Real ft) {
+  const int na = b.nj;
   const int jb = boundary_at_j0 ? 0 : na;
   const Real turn_sign = boundary_at_j0 ? -1.0 : 1.0;  // into the sector
-  const Real phi0 = az.phi((sector + 1) * na - jb);
+  const Real phi0 = (boundary_at_j0 ? sector + 1 : sector) * 0.5 * kPi;
   for (int i = i_first + 1; i < i_last; ++i)
     for (int k = 0; k < k_tip; ++k) {
       const Vec3 on_plane = b.x(i, jb, k);
@@ -172,11 +199,11 @@ void wrap_appendage(Block& b, const Azimuth& az, int sector, bool boundary_at_j0
       // so the nodes further out do not shear against the untouched ones beyond the edge.
       const Real reach = std::min(0.5 * kPi, 4.0 * std::abs(angle));
       for (int j = 0; j <= na; ++j) {
-        const Real apart = std::abs(az.phi((sector + 1) * na - j) - phi0);
-        const Real w = 1.0 - smoothstep(std::min(apart, 2.0 * kPi - apart) / reach);
+        Vec3& p = b.x(i, j, k);
+        const Real apart = std::abs(std::remainder(std::atan2(p[2], p[1]) - phi0, 2.0 * kPi));
+        const Real w = 1.0 - smoothstep(apart / reach);
         if (w == 0.0) continue;
         const Real c = std::cos(angle * w), sn = std::sin(angle * w);
-        Vec3& p = b.x(i, j, k);
         const Real y = p[1], z = p[2];
         p[1] = c * y - sn * z;
         p[2] = sn * y + c * z;
@@ -214,12 +241,13 @@ Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
   const Stations st = make_stations(spec, m, rho, ft);
   const int nl = static_cast<int>(st.s.size()) - 1, nk = spec.cells_span + spec.cells_outer;
 
-  // Azimuths clustered at the sector boundaries: the first spacing off an appendage is
-  // fin_spacing at the largest radius an appendage reaches (the sail's crest).
-  Azimuth az{na, {}};
+  // Azimuths: uniform (as the bare grids) at the poles and away from the appendages;
+  // clustered at a sector boundary where an appendage may stand there (whatever the
+  // configuration, so that all share the grid), with the first spacing fin_spacing at the
+  // largest radius an appendage reaches (the sail's crest).
+  const Azimuth az{na, {}};
   const Real crest = suboff::Sail(spec.sail_crest_slope).tip(3.45) * ft;
-  az.within = geometric_nodes_both_ends(0.0, 0.5 * kPi, na, spec.fin_spacing / crest);
-
+  const AzimuthBlend azimuths(na, spec.fin_spacing / crest);
   BodyGridSpec es;
   es.far_field = spec.far_field;
   es.cells_normal = 1;
@@ -229,26 +257,56 @@ Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
   // Near the poles the stations of an off-boundary meridian shift with its square edge
   // (re, not rho), as in body_of_revolution.cpp; elsewhere every meridian has the boundary's.
   auto pole_shift = [&](Real s) {
-    const Real f = (s - rho) / (S - 2.0 * rho), reach = 0.05;
+    const Real f = (s - rho) / (S - 2.0 * rho), reach = 0.03;
     if (f < reach) return std::pow(1.0 - f / reach, 2);
     if (f > 1.0 - reach) return -std::pow(1.0 - (1.0 - f) / reach, 2);
     return 0.0;
   };
+  for (std::size_t i = 0; i < st.s.size(); ++i)
+    if (pole_shift(st.s[i]) != 0.0 && st.lines[i].fin_weight != 0.0)
+      fail("appended SUBOFF grid: station {} follows an appendage inside a pole stretch; use a smaller pole spacing", i);
   std::vector<std::vector<Real>> distances;
   for (const auto& w : st.lines) distances.push_back(line_distances(spec, w.d_tip));
+
+  // How strongly the azimuths cluster at boundary q at station i, level k: the window's
+  // weight, fading above the tip level over one span. The sail stands at 270 degrees only.
+  auto clustering = [&](int q, std::size_t i, int k) {
+    const WallLine& w = st.lines[i];
+    if (w.near_sail && q != 3) return 0.0;
+    const Real above_tip = distances[i][static_cast<std::size_t>(k)] - w.d_tip;
+    return w.fin_weight * (1.0 - smoothstep(above_tip / w.d_tip));
+  };
 
   Grid g;
   for (int sector = 0; sector < 4; ++sector) {
     Block b(fmt::format("sector_{}", sector * 90), nl, na, nk);
-    for (int j = 0; j <= na; ++j) {
-      const int ma = (sector + 1) * na - j;
-      const auto end = diamond(rho, az, ma);
-      const Real re = std::hypot(end[0], end[1]);
-      for (int i = 0; i <= nl; ++i) {
-        const std::size_t ui = static_cast<std::size_t>(i);
-        const SurfacePoint p = i == 0 || i == nl ? near_pole(m, end, i == nl)
-                                                 : surface(m, st.s[ui] + (re - rho) * pole_shift(st.s[ui]), az.unit(ma));
-        for (int k = 0; k <= nk; ++k) b.x(i, j, k) = line_node(ex, p, st.lines[ui], distances[ui][static_cast<std::size_t>(k)]);
+    for (int i = 0; i <= nl; ++i) {
+      const std::size_t ui = static_cast<std::size_t>(i);
+      if (i == 0 || i == nl || pole_shift(st.s[ui]) != 0.0) {
+        // Near the poles: each meridian's own stations, uniform azimuths, as the squares.
+        for (int j = 0; j <= na; ++j) {
+          const int ma = (sector + 1) * na - j;
+          const auto end = diamond(rho, az, ma);
+          const Real re = std::hypot(end[0], end[1]);
+          const SurfacePoint p = i == 0 || i == nl ? near_pole(m, end, i == nl)
+                                                   : surface(m, st.s[ui] + (re - rho) * pole_shift(st.s[ui]), az.unit(ma));
+          for (int k = 0; k <= nk; ++k) b.x(i, j, k) = line_node(ex, p, st.lines[ui], distances[ui][static_cast<std::size_t>(k)]);
+        }
+        continue;
+      }
+      // Elsewhere every meridian has the same line: place its nodes at each one's azimuth.
+      const SurfacePoint p = surface(m, st.s[ui], {1.0, 0.0});
+      for (int k = 0; k <= nk; ++k) {
+        const Vec3 xr = line_node(ex, p, st.lines[ui], distances[ui][static_cast<std::size_t>(k)]);
+        const std::vector<Real> within = azimuths.within(clustering((sector + 1) % 4, ui, k), clustering(sector, ui, k));
+        for (int j = 0; j <= na; ++j) {
+          // j = 0 and j = na are the boundaries: exact axes, shared bit for bit with the neighbour.
+          const auto [c, sn] = j == 0 ? az.unit((sector + 1) * na)
+                               : j == na ? az.unit(sector * na)
+                                         : std::array<Real, 2>{std::cos((sector + 1) * 0.5 * kPi - within[static_cast<std::size_t>(j)]),
+                                                               std::sin((sector + 1) * 0.5 * kPi - within[static_cast<std::size_t>(j)])};
+          b.x(i, j, k) = Vec3(xr[0], xr[1] * c, xr[1] * sn);
+        }
       }
     }
     add_hull_patches(b);
@@ -266,7 +324,7 @@ Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
     for (const int sector : {q, (q + 3) % 4}) {
       const bool at_j0 = sector != q;
       Block& b = g.blocks[static_cast<std::size_t>(sector)];
-      wrap_appendage(b, az, sector, at_j0, *a, i_first, i_last, spec.cells_span, ft);
+      wrap_appendage(b, sector, at_j0, *a, i_first, i_last, spec.cells_span, ft);
       Patch p;
       p.side = at_j0 ? 2 : 3;
       p.lo = {i_first, 0, 0};

@@ -36,19 +36,21 @@ struct AppendedSuboffSpec {
   suboff::Deflections deflections;
   Real length = 1.0;        // the overall length in grid units
   // Cells along the hull, in five stretches between the pole squares:
-  int cells_bow = 32;       // nose square -> the sail's leading edge
+  int cells_bow = 96;       // nose square -> the sail's leading edge
   int cells_sail = 32;      // the sail's chord
-  int cells_middle = 48;    // the sail's trailing edge -> the stern appendages' leading edges
+  int cells_middle = 64;    // the sail's trailing edge -> the stern appendages' leading edges
   int cells_fin = 32;       // the stern appendages' chord
-  int cells_stern = 32;     // their trailing edges -> the tail square
+  int cells_stern = 48;     // their trailing edges -> the tail square
   int cells_around = 32;    // per 90-degree sector
-  int cells_span = 32;      // hull -> tip level
-  int cells_outer = 64;     // tip level -> far field
+  int cells_span = 64;      // hull -> tip level
+  int cells_outer = 48;     // tip level -> far field
   Real first_spacing = 2e-6;   // off the hull, grid units
   Real fin_spacing = 2e-6;     // off the appendages (at the sail's crest, the largest radius)
-  Real tip_spacing = 2e-4;     // along the wall lines at the tip level
-  Real edge_spacing = 3e-4;    // chordwise at the appendages' leading and trailing edges
-  Real pole_spacing = 3e-4;    // along the meridians at nose and tail
+  Real tip_spacing = 1e-3;     // along the wall lines at the tip level
+  Real edge_spacing = 2e-4;    // chordwise at the appendages' leading and trailing edges
+  // Along the meridians at nose and tail. The pole squares are cells_around x pole_spacing
+  // / sqrt(2) across: the SUBOFF runs need them no larger than about 0.005 L (mesh/DESIGN.md).
+  Real pole_spacing = 2.25e-4;
   Real far_field = 15.0;       // in body lengths
   // The sail's cap closes with this slope instead of tangentially (suboff::Sail): the
   // cells at its crest are sheared by about this ratio.

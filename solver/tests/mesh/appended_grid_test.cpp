@@ -7,7 +7,10 @@
 
 #include <fmt/format.h>
 
+#include "core/error.hpp"
+#include "config/case_config.hpp"
 #include "mesh/appended_suboff.hpp"
+#include "mesh/generators.hpp"
 #include "mesh/grid_quality.hpp"
 #include "mesh/setup.hpp"
 #include "physics/residual.hpp"
@@ -156,6 +159,95 @@ TEST(AppendedSuboff, ConfigurationsShareTheGridAwayFromTheAppendages) {
   }
   EXPECT_GT(compared, 0);
   EXPECT_GT(differing, 0);
+}
+
+}  // namespace
+}  // namespace narwhal
+
+namespace narwhal {
+namespace {
+
+// The stretching the appended grids' stations and wall lines use: both end spacings
+// exact, nodes increasing, for mild and strong clustering and either end finer.
+TEST(TwoSidedNodes, EndSpacingsAreExactAndNodesIncrease) {
+  struct Case {
+    Real a, b;
+    int n;
+    Real ds_a, ds_b;
+  };
+  for (const Case c : {Case{0.0, 1.0, 32, 1e-3, 1e-3}, Case{0.0, 1.0, 32, 1e-6, 1e-2}, Case{2.0, 3.5, 16, 0.05, 1e-4},
+                       Case{0.0, 0.05, 64, 2e-6, 2e-4}}) {
+    const std::vector<Real> x = two_sided_nodes(c.a, c.b, c.n, c.ds_a, c.ds_b);
+    ASSERT_EQ(x.size(), static_cast<std::size_t>(c.n + 1));
+    EXPECT_EQ(x.front(), c.a);
+    EXPECT_EQ(x.back(), c.b);
+    EXPECT_NEAR((x[1] - x[0]) / c.ds_a, 1.0, 1e-8);
+    EXPECT_NEAR((x[c.n] - x[c.n - 1]) / c.ds_b, 1.0, 1e-8);
+    for (int i = 0; i < c.n; ++i) EXPECT_GT(x[i + 1], x[i]);
+  }
+  // End spacings no smaller than the mean cannot be clustered: refused, with the numbers.
+  EXPECT_THROW(two_sided_nodes(0.0, 1.0, 10, 0.2, 0.2), Error);
+}
+
+}  // namespace
+}  // namespace narwhal
+
+namespace narwhal {
+namespace {
+
+const char* kAppendedCase = R"(
+[grid]
+type = "appended_suboff"
+configuration = "stern4"
+cells_bow = 8
+cells_sail = 8
+cells_middle = 8
+cells_fin = 8
+cells_stern = 8
+cells_around = 8
+cells_span = 8
+cells_outer = 8
+first_spacing = 1e-4
+fin_spacing = 1e-4
+tip_spacing = 1e-3
+edge_spacing = 2e-3
+pole_spacing = 1e-3
+[flow]
+reynolds = 1e6
+[bc.body]
+type = "wall"
+[bc.farfield]
+type = "farfield"
+)";
+
+// One case file serves every configuration: the appendages take [bc.body] unless given
+// their own; without [bc.body] the message names the key.
+TEST(AppendedSuboffCase, AppendagesTakeTheHullsWallCondition) {
+  const CaseConfig c = parse_case(kAppendedCase, "appended.toml", ".");
+  for (const char* name : {"upper_rudder", "lower_rudder", "starboard_stern_plane", "port_stern_plane"}) {
+    ASSERT_TRUE(c.bcs.count(name)) << name;
+    EXPECT_EQ(c.bcs.at(name).type, BcType::Wall) << name;
+  }
+  EXPECT_FALSE(c.bcs.count("sail"));
+  const Grid g = build_grid(c);
+  int fin_faces = 0;
+  for (const Block& b : g.blocks)
+    for (const Patch& p : b.patches) fin_faces += p.label == "upper_rudder" && p.type == BcType::Wall;
+  EXPECT_EQ(fin_faces, 2);  // its two sides
+  std::string text = kAppendedCase;
+  text.replace(text.find("[bc.body]"), 9, "[bc.hull]");
+  try {
+    parse_case(text, "appended.toml", ".");
+    FAIL() << "accepted an appended hull without [bc.body]";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bc.body"), std::string::npos) << e.what();
+  }
+  try {
+    parse_case(kAppendedCase, "appended.toml", ".", {"grid.configuration=\"aff8\""});
+    FAIL() << "accepted an unknown configuration";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("grid.configuration"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
