@@ -111,9 +111,12 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
                                 Range::between(0.0, 0.01 * a.length));
   a.tip_spacing = r.number_or("grid.tip_spacing", a.tip_spacing, "the spacing along the wall lines at the tip level",
                               Range::between(0.0, 0.05 * a.length));
-  a.edge_spacing = r.number_or("grid.edge_spacing", a.edge_spacing,
-                               "the chordwise spacing at the appendages' leading and trailing edges",
-                               Range::between(0.0, 0.01 * a.length));
+  a.leading_edge_spacing = r.number_or("grid.leading_edge_spacing", a.leading_edge_spacing,
+                                       "the chordwise spacing at the appendages' leading edges",
+                                       Range::between(0.0, 0.01 * a.length));
+  a.trailing_edge_spacing = r.number_or("grid.trailing_edge_spacing", a.trailing_edge_spacing,
+                                        "the chordwise spacing at the appendages' trailing edges",
+                                        Range::between(0.0, 0.01 * a.length));
   a.pole_spacing = r.number_or("grid.pole_spacing", a.pole_spacing, "the meridional spacing at nose and tail",
                                Range::between(0.0, 0.01 * a.length));
   a.sail_crest_slope = r.number_or("grid.sail_crest_slope", a.sail_crest_slope,

@@ -62,7 +62,8 @@ Stations make_stations(const AppendedSuboffSpec& spec, const Meridian& m, Real r
   // The sail's window: stations at x, lines straight up (its sections do not change with height).
   const suboff::Sail sail(spec.sail_crest_slope);
   const std::vector<Real> x_sail = two_sided_nodes(suboff::Sail::kLeadingEdge, suboff::Sail::kTrailingEdge,
-                                                   spec.cells_sail, spec.edge_spacing / ft, spec.edge_spacing / ft);
+                                                   spec.cells_sail, spec.leading_edge_spacing / ft,
+                                                   spec.trailing_edge_spacing / ft);
   std::vector<Real> s_sail;
   std::vector<WallLine> sail_lines;
   for (const Real x : x_sail) {
@@ -73,8 +74,8 @@ Stations make_stations(const AppendedSuboffSpec& spec, const Meridian& m, Real r
   const auto fin = suboff::make_stern_appendage(suboff::SternAppendage::UpperRudder);
   const auto& shape = fin->shape();
   const Real mean_chord = fin->chord(0.5 * (0.4 + shape.tip_span));
-  const std::vector<Real> xi = two_sided_nodes(0.0, 1.0, spec.cells_fin, spec.edge_spacing / (ft * mean_chord),
-                                               spec.edge_spacing / (ft * mean_chord));
+  const std::vector<Real> xi = two_sided_nodes(0.0, 1.0, spec.cells_fin, spec.leading_edge_spacing / (ft * mean_chord),
+                                               spec.trailing_edge_spacing / (ft * mean_chord));
   std::vector<Real> s_fin;
   std::vector<WallLine> fin_lines;
   for (const Real f : xi) {

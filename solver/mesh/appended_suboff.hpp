@@ -47,7 +47,12 @@ struct AppendedSuboffSpec {
   Real first_spacing = 2e-6;   // off the hull, grid units
   Real fin_spacing = 2e-6;     // off the appendages (at the sail's crest, the largest radius)
   Real tip_spacing = 1e-3;     // along the wall lines at the tip level
-  Real edge_spacing = 2e-4;    // chordwise at the appendages' leading and trailing edges
+  // Chordwise at the appendages' leading and trailing edges. The wall lines leave a blunt
+  // leading edge sideways (an H-grid), so the first cell behind it is sheared by about
+  // sqrt(2 r_le / spacing) (r_le the edge's radius: sail 0.0053 L, stern appendages 0.0018 L):
+  // 1.5e-3 L keeps that under 3 (with 2e-4 L the SST runs with the sail diverged).
+  Real leading_edge_spacing = 1.5e-3;
+  Real trailing_edge_spacing = 2e-4;
   // Along the meridians at nose and tail. The pole squares are cells_around x pole_spacing
   // / sqrt(2) across: the SUBOFF runs need them no larger than about 0.005 L (mesh/DESIGN.md).
   Real pole_spacing = 2.25e-4;

@@ -167,15 +167,23 @@ def run_json(ctx, spec, run_id):
     return float(data[field])
 
 
-@extractor("history_last", "column")
+@extractor("history_last", "column", "columns")
 def history_last(ctx, spec, run_id):
+    """The last row's value of one column, or the sum of several (`columns`: the forces
+    on an appended hull's walls, one group each, make the vehicle's)."""
     t = read_csv(ctx.run_dir(run_id) / "history.csv")
-    col = _need(spec, "column", "a history.csv column")
-    if col not in t:
-        raise HarnessError(f"history.csv of '{run_id}' has no column '{col}' (columns: {', '.join(t)})")
-    if t[col].size == 0:
-        raise HarnessError(f"history.csv of '{run_id}' has no rows")
-    return float(t[col][-1])
+    if ("column" in spec) == ("columns" in spec):
+        raise HarnessError("extractor 'history_last' needs 'column' (a history.csv column) or 'columns' (a list "
+                           "of them, summed), not both")
+    cols = spec["columns"] if "columns" in spec else [spec["column"]]
+    if not isinstance(cols, list) or not cols:
+        raise HarnessError("extractor 'history_last': 'columns' must be a non-empty list of history.csv columns")
+    for col in cols:
+        if col not in t:
+            raise HarnessError(f"history.csv of '{run_id}' has no column '{col}' (columns: {', '.join(t)})")
+        if t[col].size == 0:
+            raise HarnessError(f"history.csv of '{run_id}' has no rows")
+    return float(sum(t[col][-1] for col in cols))
 
 
 @extractor("field_error", "exact", "params", "variable", "norm", "remove_mean")

@@ -152,6 +152,14 @@ class AxialProfileAndNewtons(unittest.TestCase):
             newtons = EXTRACT["dimensional"][0]
             spec = {"of": {"kind": "history_last", "column": "body_cfx"}, "density": 1000.0, "speed": 3.0, "area": 2.0}
             self.assertAlmostEqual(newtons(Ctx(d), spec, "run"), 0.002 * 0.5 * 1000.0 * 9.0 * 2.0, places=12)
+            (run / "history.csv").write_text("iteration,body_cfx,sail_cfx\n1,0.5,0.1\n2,0.002,0.0004\n")
+            last = EXTRACT["history_last"][0]
+            self.assertAlmostEqual(last(Ctx(d), {"columns": ["body_cfx", "sail_cfx"]}, "run"), 0.0024, places=15)
+            self.assertEqual(last(Ctx(d), {"column": "sail_cfx"}, "run"), 0.0004)
+            from harness.errors import HarnessError
+            for bad in ({}, {"column": "body_cfx", "columns": ["sail_cfx"]}, {"columns": []}, {"columns": ["fin_cfx"]}):
+                with self.assertRaises(HarnessError):
+                    last(Ctx(d), bad, "run")
             parts = EXTRACT["force_part"][0]
             self.assertEqual(parts(Ctx(d), {"part": "friction"}, "run"), 0.0005)
             self.assertEqual(parts(Ctx(d), {"part": "pressure", "component": "cfx"}, "run"), 0.0015)

@@ -36,7 +36,8 @@ AppendedSuboffSpec small_spec(const std::string& configuration) {
   s.first_spacing = 1e-4;
   s.fin_spacing = 1e-4;
   s.tip_spacing = 1e-3;
-  s.edge_spacing = 2e-3;
+  s.leading_edge_spacing = 2e-3;
+  s.trailing_edge_spacing = 2e-3;
   s.pole_spacing = 1e-3;
   return s;
 }
@@ -210,7 +211,8 @@ cells_outer = 8
 first_spacing = 1e-4
 fin_spacing = 1e-4
 tip_spacing = 1e-3
-edge_spacing = 2e-3
+leading_edge_spacing = 2e-3
+trailing_edge_spacing = 2e-3
 pole_spacing = 1e-3
 [flow]
 reynolds = 1e6
