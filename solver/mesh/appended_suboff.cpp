@@ -336,33 +336,11 @@ Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
   }
 
   // The pole squares, as in body_of_revolution.cpp, with their meridians' lines.
-  auto edge = [&](int ma) { return diamond(rho, az, ma); };
   for (const bool tail : {false, true}) {
     const std::size_t line = tail ? static_cast<std::size_t>(nl) : 0;
-    Block b(tail ? "tail" : "nose", na, na, nk);
-    for (int ia = 0; ia <= na; ++ia)
-      for (int ib = 0; ib <= na; ++ib) {
-        const Real a = static_cast<Real>(ia) / na, c = static_cast<Real>(ib) / na;
-        const auto b0 = edge(3 * na + ia), b1 = edge(2 * na - ia);
-        const auto a0 = edge(3 * na - ib), a1 = edge(ib);
-        const auto k3 = edge(3 * na), k0 = edge(0), k1 = edge(na), k2 = edge(2 * na);
-        std::array<Real, 2> xy{};
-        for (int d = 0; d < 2; ++d)
-          xy[d] = (1 - c) * b0[d] + c * b1[d] + (1 - a) * a0[d] + a * a1[d] -
-                  ((1 - a) * (1 - c) * k3[d] + a * (1 - c) * k0[d] + a * c * k1[d] + (1 - a) * c * k2[d]);
-        if (ib == 0) xy = b0;
-        if (ib == na) xy = b1;
-        if (ia == 0) xy = a0;
-        if (ia == na) xy = a1;
-        const SurfacePoint p = near_pole(m, xy, tail);
-        for (int k = 0; k <= nk; ++k) {
-          const Vec3 x = line_node(ex, p, st.lines[line], distances[line][static_cast<std::size_t>(k)]);
-          if (tail)
-            b.x(ia, ib, k) = x;
-          else
-            b.x(ib, ia, k) = x;
-        }
-      }
+    Block b = make_pole_square(m, az, rho, nk, tail, [&](const SurfacePoint& p, int k) {
+      return line_node(ex, p, st.lines[line], distances[line][static_cast<std::size_t>(k)]);
+    });
     add_hull_patches(b);
     g.blocks.push_back(std::move(b));
   }

@@ -92,36 +92,8 @@ Grid make_body_of_revolution(const BodyGridSpec& spec) {
     g.blocks.push_back(std::move(b));
   }
   // The pole squares: transfinite interpolation of the diamond's edges in (X, Y).
-  // Corners c0..c3 at azimuths 0, 90, 180, 270 degrees; square coordinates (a, b)
-  // with (0,0) = c3, (1,0) = c0, (1,1) = c1, (0,1) = c2; each edge's nodes where the
-  // sector's meridians meet it (the same azimuth indices).
-  auto edge = [&](int ma) { return diamond(rho, az, ma); };
   for (const bool tail : {false, true}) {
-    Block b(tail ? "tail" : "nose", na, na, nk);
-    for (int ia = 0; ia <= na; ++ia)
-      for (int ib = 0; ib <= na; ++ib) {
-        const Real a = static_cast<Real>(ia) / na, c = static_cast<Real>(ib) / na;
-        const auto b0 = edge(3 * na + ia), b1 = edge(2 * na - ia);  // c3 -> c0, c2 -> c1
-        const auto a0 = edge(3 * na - ib), a1 = edge(ib);           // c3 -> c2, c0 -> c1
-        const auto k3 = edge(3 * na), k0 = edge(0), k1 = edge(na), k2 = edge(2 * na);
-        std::array<Real, 2> xy{};
-        for (int d = 0; d < 2; ++d)
-          xy[d] = (1 - c) * b0[d] + c * b1[d] + (1 - a) * a0[d] + a * a1[d] -
-                  ((1 - a) * (1 - c) * k3[d] + a * (1 - c) * k0[d] + a * c * k1[d] + (1 - a) * c * k2[d]);
-        // Edge nodes exactly as the sectors place them.
-        if (ib == 0) xy = b0;
-        if (ib == na) xy = b1;
-        if (ia == 0) xy = a0;
-        if (ia == na) xy = a1;
-        const SurfacePoint p = near_pole(m, xy, tail);
-        // Right-handed with k outward: (i, j) = (b, a) at the nose, (a, b) at the tail.
-        for (int k = 0; k <= nk; ++k) {
-          if (tail)
-            b.x(ia, ib, k) = ex.node(p, k);
-          else
-            b.x(ib, ia, k) = ex.node(p, k);
-        }
-      }
+    Block b = make_pole_square(m, az, rho, nk, tail, [&](const SurfacePoint& p, int k) { return ex.node(p, k); });
     add_patches(b);
     g.blocks.push_back(std::move(b));
   }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "mesh/block.hpp"
 #include "mesh/body_of_revolution.hpp"
 #include "mesh/generators.hpp"
 
@@ -164,6 +165,49 @@ inline std::array<Real, 2> diamond(Real rho, const Azimuth& az, int m) {
   const auto [c, s] = az.unit(m);
   const Real re = rho / (std::abs(c) + std::abs(s));
   return {re * c, re * s};
+}
+
+// A pole square's node (ia, ib) in polar-projection coordinates: the transfinite
+// interpolation of the diamond's edges. Corners c0..c3 at azimuths 0, 90, 180, 270
+// degrees; square coordinates (a, b) with (0,0) = c3, (1,0) = c0, (1,1) = c1, (0,1) = c2;
+// each edge's nodes where the sectors' meridians meet it (the same azimuth indices), and
+// the edge nodes exactly as the sectors place them.
+inline std::array<Real, 2> pole_square_point(Real rho, const Azimuth& az, int ia, int ib) {
+  const int na = az.na;
+  auto edge = [&](int ma) { return diamond(rho, az, ma); };
+  const Real a = static_cast<Real>(ia) / na, c = static_cast<Real>(ib) / na;
+  const auto b0 = edge(3 * na + ia), b1 = edge(2 * na - ia);  // c3 -> c0, c2 -> c1
+  const auto a0 = edge(3 * na - ib), a1 = edge(ib);           // c3 -> c2, c0 -> c1
+  const auto k3 = edge(3 * na), k0 = edge(0), k1 = edge(na), k2 = edge(2 * na);
+  std::array<Real, 2> xy{};
+  for (int d = 0; d < 2; ++d)
+    xy[d] = (1 - c) * b0[d] + c * b1[d] + (1 - a) * a0[d] + a * a1[d] -
+            ((1 - a) * (1 - c) * k3[d] + a * (1 - c) * k0[d] + a * c * k1[d] + (1 - a) * c * k2[d]);
+  if (ib == 0) xy = b0;
+  if (ib == na) xy = b1;
+  if (ia == 0) xy = a0;
+  if (ia == na) xy = a1;
+  return xy;
+}
+
+// A pole square's block ("nose" or "tail"), node (ia, ib, k) = node(p, k) with p the
+// surface point of square node (ia, ib). Right-handed with k outward: (i, j) = (b, a) at
+// the nose, (a, b) at the tail.
+template <class Node>
+Block make_pole_square(const Meridian& m, const Azimuth& az, Real rho, int nk, bool tail, Node&& node) {
+  const int na = az.na;
+  Block b(tail ? "tail" : "nose", na, na, nk);
+  for (int ia = 0; ia <= na; ++ia)
+    for (int ib = 0; ib <= na; ++ib) {
+      const SurfacePoint p = near_pole(m, pole_square_point(rho, az, ia, ib), tail);
+      for (int k = 0; k <= nk; ++k) {
+        if (tail)
+          b.x(ia, ib, k) = node(p, k);
+        else
+          b.x(ib, ia, k) = node(p, k);
+      }
+    }
+  return b;
 }
 
 // Smooth step 0 -> 1 over [0, 1].

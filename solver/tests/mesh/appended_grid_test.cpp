@@ -51,33 +51,12 @@ Grid finalized(const AppendedSuboffSpec& s) {
   return g;
 }
 
-Real free_stream_residual(Grid& g) {
-  const std::vector<GhostArray<State>> R =
-      test::uniform_state_residual(g, (State() << 0.3, 0.7, -0.2, 0.1).finished());
-  Real worst = 0.0;
-  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
-    const Block& b = g.blocks[ib];
-    for (int k = 0; k < b.nk; ++k)
-      for (int j = 0; j < b.nj; ++j)
-        for (int i = 0; i < b.ni; ++i) {
-          Real faces = 0.0;
-          for (int d = 0; d < 3; ++d) {
-            Index3 hi{i, j, k};
-            ++hi[d];
-            faces += b.S[d](i, j, k).norm() + b.S[d](hi).norm();
-          }
-          worst = std::max(worst, R[ib](i, j, k).cwiseAbs().maxCoeff() / faces);
-        }
-  }
-  return worst;
-}
-
 TEST(AppendedSuboff, EveryConfigurationIsWholeFacedClosedAndPreservesTheFreeStream) {
   for (const std::string c : {"bare", "sail", "stern4", "sail_stern4"}) {
     Grid g = finalized(small_spec(c));
     EXPECT_EQ(g.blocks.size(), 44u) << c;
     for (const int node : {0, 1, 3}) EXPECT_LT(test::interface_ghost_node_mismatch(g, node), 1e-12) << c;
-    const Real r = free_stream_residual(g);
+    const Real r = test::relative_free_stream_residual(g);
     EXPECT_LT(r, 1e-12) << c;
     RecordProperty(c + "_relative_free_stream_residual", fmt::format("{:.2e}", r));
     const GridQuality q = measure_grid_quality(g, {"body", "sail", "upper_rudder"}, 1.3e7);

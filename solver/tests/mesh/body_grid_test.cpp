@@ -33,31 +33,6 @@ Grid finalized(const BodyGridSpec& s, BcType type) {
   return g;
 }
 
-// The residual of a uniform state, the worst cell, relative to the flux through the
-// cell's faces (|R| / sum |S|, with |q| of order one): zero up to round-off when the
-// cells close. Against the volume instead (|R|/V) the same round-off grows as the
-// inverse of the wall spacing: 2e-12 on these grids' wall cells, 1e-3 thick.
-Real free_stream_residual(Grid& g) {
-  const std::vector<GhostArray<State>> R =
-      test::uniform_state_residual(g, (State() << 0.3, 0.7, -0.2, 0.1).finished());
-  Real worst = 0.0;
-  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
-    const Block& b = g.blocks[ib];
-    for (int k = 0; k < b.nk; ++k)
-      for (int j = 0; j < b.nj; ++j)
-        for (int i = 0; i < b.ni; ++i) {
-          Real faces = 0.0;
-          for (int d = 0; d < 3; ++d) {
-            Index3 hi{i, j, k};
-            ++hi[d];
-            faces += b.S[d](i, j, k).norm() + b.S[d](hi).norm();
-          }
-          worst = std::max(worst, R[ib](i, j, k).cwiseAbs().maxCoeff() / faces);
-        }
-  }
-  return worst;
-}
-
 TEST(BodyOfRevolution, SixBlocksJoinedOneToOneWithNoDegenerateFace) {
   for (const BodyProfile& p : {sphere_profile(1.0), spheroid_profile(1.0, 6.0), suboff_profile(1.0)}) {
     const Grid g = finalized(small_spec(p), BcType::Dirichlet);
@@ -139,7 +114,7 @@ TEST(BodyOfRevolution, LinesFromThePolesRunAlongTheAxis) {
 TEST(BodyOfRevolution, FreeStreamIsPreservedToRoundOff) {
   for (const BodyProfile& p : {sphere_profile(1.0), spheroid_profile(1.0, 6.0), suboff_profile(1.0)}) {
     Grid g = finalized(small_spec(p), BcType::Dirichlet);
-    const Real r = free_stream_residual(g);
+    const Real r = test::relative_free_stream_residual(g);
     EXPECT_LT(r, 1e-14) << p.name;
     RecordProperty(p.name + "_relative_free_stream_residual", fmt::format("{:.2e}", r));
   }
