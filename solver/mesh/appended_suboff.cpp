@@ -270,12 +270,14 @@ Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
   for (const auto& w : st.lines) distances.push_back(line_distances(spec, w.d_tip));
 
   // How strongly the azimuths cluster at boundary q at station i, level k: the window's
-  // weight, fading above the tip level over one span. The sail stands at 270 degrees only.
+  // weight, fading above the tip level over three spans (over one, the grid coarsened
+  // twice, a multigrid level, had folded cells above the sail's tip). The sail stands at
+  // 270 degrees only.
   auto clustering = [&](int q, std::size_t i, int k) {
     const WallLine& w = st.lines[i];
     if (w.near_sail && q != 3) return 0.0;
     const Real above_tip = distances[i][static_cast<std::size_t>(k)] - w.d_tip;
-    return w.fin_weight * (1.0 - smoothstep(above_tip / w.d_tip));
+    return w.fin_weight * (1.0 - smoothstep(above_tip / (3.0 * w.d_tip)));
   };
 
   Grid g;
