@@ -13,6 +13,7 @@
 #include "mesh/generators.hpp"
 #include "mesh/grid_quality.hpp"
 #include "mesh/setup.hpp"
+#include "multigrid/coarsen.hpp"
 #include "physics/residual.hpp"
 #include "test_support.hpp"
 
@@ -228,6 +229,35 @@ TEST(AppendedSuboffCase, AppendagesTakeTheHullsWallCondition) {
     FAIL() << "accepted an unknown configuration";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("grid.configuration"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace narwhal
+
+namespace narwhal {
+namespace {
+
+// The grids a family and the multigrid make by removing every other line keep every cell
+// unfolded: the production grid at half its cell counts, coarsened twice.
+TEST(AppendedSuboff, CoarsenedGridsHaveNoFoldedCell) {
+  AppendedSuboffSpec s;
+  s.configuration = "sail_stern4";
+  s.cells_bow /= 2, s.cells_sail /= 2, s.cells_middle /= 2, s.cells_fin /= 2, s.cells_stern /= 2;
+  s.cells_around /= 2, s.cells_span /= 2, s.cells_outer /= 2;
+  Grid g = make_appended_suboff(s);
+  for (const auto& label : kAppendageLabels) assign_bc(g, label, {BcType::Wall});
+  assign_bc(g, "body", {BcType::Wall});
+  assign_bc(g, "farfield", {BcType::Farfield});
+  finalize_grid(g);
+  for (int level = 0; level <= 2; ++level) {
+    const GridQuality q = measure_grid_quality(g, {"body", "sail"}, 0.0);
+    EXPECT_EQ(q.folded_cells, 0u) << "coarsened " << level << " times; worst " << q.min_corner_jacobian.value << " in "
+                                  << q.min_corner_jacobian.block;
+    if (level < 2) {
+      ASSERT_EQ(why_not_coarsenable(g), "");
+      g = coarsen(g);
+    }
   }
 }
 
