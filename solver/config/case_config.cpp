@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include <Eigen/Geometry>
+#include <fmt/format.h>
 
 #include "config/reader.hpp"
 #include "core/error.hpp"
@@ -72,10 +73,14 @@ Real spacing_for_y_plus(const ConfigReader& r, const std::string& key, Real leng
 // the first spacings follow y+ targets (hull: the hull's Reynolds number; appendages: their
 // own, on the stern appendages' mean chord) unless given as lengths.
 void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
-  a.configuration = r.string_or("grid.configuration", a.configuration, "the appendages: bare, sail, stern4 or sail_stern4");
-  const auto& names = suboff::configuration_names();
-  if (std::find(names.begin(), names.end(), a.configuration) == names.end() || a.configuration == "full")
-    r.error("grid.configuration", "expected one of bare, sail, stern4, sail_stern4, got '" + a.configuration + "'");
+  // The configurations the grid meshes: all but "full" (its sail planes are not meshed yet).
+  std::vector<std::string> meshed;
+  for (const auto& name : suboff::configuration_names())
+    if (name != "full") meshed.push_back(name);
+  const std::string expected = fmt::format("one of {}", fmt::join(meshed, ", "));
+  a.configuration = r.string_or("grid.configuration", a.configuration, "the appendages: " + expected);
+  if (std::find(meshed.begin(), meshed.end(), a.configuration) == meshed.end())
+    r.error("grid.configuration", "expected " + expected + ", got '" + a.configuration + "'");
   a.length = r.number_or("grid.length", a.length, "the overall length", Range::positive());
   struct Count {
     const char* key;

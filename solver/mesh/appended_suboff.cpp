@@ -152,12 +152,12 @@ class AzimuthBlend {
     high_.resize(low_.size());
     for (std::size_t j = 0; j < low_.size(); ++j) high_[j] = quarter - low_[low_.size() - 1 - j];
   }
-  std::vector<Real> within(Real at_j0, Real at_jn) const {
-    std::vector<Real> a(uniform_.size());
-    for (std::size_t j = 0; j < a.size(); ++j)
-      a[j] = (1.0 - at_j0) * (1.0 - at_jn) * uniform_[j] + at_j0 * (1.0 - at_jn) * low_[j] +
-             (1.0 - at_j0) * at_jn * high_[j] + at_j0 * at_jn * both_[j];
-    return a;
+  // The azimuth of node j from the sector's j = 0 boundary, clustering c0 at j = 0 and cn
+  // at j = na.
+  Real at(int j, Real c0, Real cn) const {
+    const std::size_t u = static_cast<std::size_t>(j);
+    return (1.0 - c0) * (1.0 - cn) * uniform_[u] + c0 * (1.0 - cn) * low_[u] + (1.0 - c0) * cn * high_[u] +
+           c0 * cn * both_[u];
   }
 
  private:
@@ -223,6 +223,171 @@ void add_hull_patches(Block& b) {
   }
 }
 
+// Everything the blocks are built from: the hull's meridian, the stations and their
+// wall lines, the azimuths, and each line's distances. Built once, in place (the
+// extrusion keeps a reference to the meridian).
+struct Layout {
+  const AppendedSuboffSpec& spec;
+  Real L, ft;
+  Meridian meridian;
+  Real S, rho;  // the meridian's length; the pole squares' half-diagonal
+  Stations st;
+  int nl, nk;
+  Azimuth az;
+  AzimuthBlend azimuths;
+  Extrusion extrusion;
+  std::vector<std::vector<Real>> distances;  // per station, along its wall line
+
+  explicit Layout(const AppendedSuboffSpec& s);
+  // Near the poles the stations of an off-boundary meridian shift with its square edge
+  // (re, not rho), as in body_of_revolution.cpp; elsewhere every meridian has the boundary's.
+  Real pole_shift(Real arc) const {
+    const Real f = (arc - rho) / (S - 2.0 * rho), reach = 0.03;
+    if (f < reach) return std::pow(1.0 - f / reach, 2);
+    if (f > 1.0 - reach) return -std::pow(1.0 - (1.0 - f) / reach, 2);
+    return 0.0;
+  }
+  // How strongly the azimuths cluster at boundary q at station i, level k: the window's
+  // weight, fading above the tip level over three spans (over one, the grid coarsened
+  // twice, a multigrid level, had folded cells above the sail's tip). The sail stands at
+  // 270 degrees only.
+  Real clustering(int q, std::size_t i, int k) const {
+    const WallLine& w = st.lines[i];
+    if (w.near_sail && q != 3) return 0.0;
+    const Real above_tip = distances[i][static_cast<std::size_t>(k)] - w.d_tip;
+    return w.fin_weight * (1.0 - smoothstep(above_tip / (3.0 * w.d_tip)));
+  }
+  Vec3 node(const SurfacePoint& p, std::size_t i, int k) const {
+    return line_node(extrusion, p, st.lines[i], distances[i][static_cast<std::size_t>(k)]);
+  }
+};
+
+BodyGridSpec far_field_extrusion(const AppendedSuboffSpec& spec) {
+  BodyGridSpec es;
+  es.far_field = spec.far_field;
+  es.cells_normal = 1;
+  es.first_spacing = spec.far_field * spec.length;
+  return es;
+}
+
+// Azimuths: uniform (as the bare grids) at the poles and away from the appendages;
+// clustered at a sector boundary where an appendage may stand there (whatever the
+// configuration, so that all share the grid), with the first spacing fin_spacing at the
+// largest radius an appendage reaches (the sail's crest).
+Layout::Layout(const AppendedSuboffSpec& s)
+    : spec(s),
+      L(s.length),
+      ft(s.length / suboff::kOverallLength),
+      meridian(suboff_profile(s.length)),
+      S(meridian.length()),
+      rho(s.cells_around * s.pole_spacing / std::sqrt(2.0)),
+      st(make_stations(s, meridian, rho, ft)),
+      nl(static_cast<int>(st.s.size()) - 1),
+      nk(s.cells_span + s.cells_outer),
+      az{s.cells_around},
+      azimuths(s.cells_around, s.fin_spacing / (suboff::Sail(s.sail_crest_slope).tip(3.45) * ft)),
+      extrusion(far_field_extrusion(s), meridian, s.length) {
+  for (std::size_t i = 0; i < st.s.size(); ++i)
+    if (pole_shift(st.s[i]) != 0.0 && st.lines[i].fin_weight != 0.0)
+      fail("appended SUBOFF grid: station {} follows an appendage inside a pole stretch; use a smaller pole spacing", i);
+  for (const auto& w : st.lines) distances.push_back(line_distances(spec, w.d_tip));
+}
+
+// One sector's block, 90 degrees from sector * 90 (j = 0 at the larger azimuth), no
+// appendage yet.
+Block make_sector_block(const Layout& lay, int sector) {
+  const int na = lay.spec.cells_around;
+  Block b(fmt::format("sector_{}", sector * 90), lay.nl, na, lay.nk);
+  for (int i = 0; i <= lay.nl; ++i) {
+    const std::size_t ui = static_cast<std::size_t>(i);
+    const Real arc = lay.st.s[ui];
+    if (i == 0 || i == lay.nl || lay.pole_shift(arc) != 0.0) {
+      // Near the poles: each meridian's own stations, uniform azimuths, as the squares.
+      for (int j = 0; j <= na; ++j) {
+        const int ma = (sector + 1) * na - j;
+        const auto end = diamond(lay.rho, lay.az, ma);
+        const Real re = std::hypot(end[0], end[1]);
+        const SurfacePoint p = i == 0 || i == lay.nl
+                                   ? near_pole(lay.meridian, end, i == lay.nl)
+                                   : surface(lay.meridian, arc + (re - lay.rho) * lay.pole_shift(arc), lay.az.unit(ma));
+        for (int k = 0; k <= lay.nk; ++k) b.x(i, j, k) = lay.node(p, ui, k);
+      }
+      continue;
+    }
+    // Elsewhere every meridian has the same line: place its nodes at each one's azimuth.
+    const SurfacePoint p = surface(lay.meridian, arc, {1.0, 0.0});
+    for (int k = 0; k <= lay.nk; ++k) {
+      const Vec3 xr = lay.node(p, ui, k);
+      const Real at_j0 = lay.clustering((sector + 1) % 4, ui, k), at_jn = lay.clustering(sector, ui, k);
+      for (int j = 0; j <= na; ++j) {
+        // j = 0 and j = na are the boundaries: exact axes, shared bit for bit with the neighbour.
+        const Real phi = (sector + 1) * 0.5 * kPi - lay.azimuths.at(j, at_j0, at_jn);
+        const auto [c, sn] = j == 0    ? lay.az.unit((sector + 1) * na)
+                             : j == na ? lay.az.unit(sector * na)
+                                       : std::array<Real, 2>{std::cos(phi), std::sin(phi)};
+        b.x(i, j, k) = Vec3(xr[0], xr[1] * c, xr[1] * sn);
+      }
+    }
+  }
+  add_hull_patches(b);
+  return b;
+}
+
+// Each appendage in the boundary plane its span direction points to: the plane wrapped
+// round it in the two sectors that share the plane, and its sides as wall patches.
+void attach_appendages(std::vector<Block>& sectors, const Layout& lay, const suboff::Configuration& config) {
+  const int na = lay.spec.cells_around;
+  for (const auto& a : config.appendages) {
+    const Vec3 span = suboff::to_grid_axes(a->span_direction);
+    const Real phi0 = std::atan2(span[2], span[1]);
+    const int q = (static_cast<int>(std::lround(phi0 / (0.5 * kPi))) + 4) % 4;
+    const bool is_sail = a->name() == "sail";
+    const int i_first = is_sail ? lay.st.sail_first : lay.st.fin_first;
+    const int i_last = is_sail ? lay.st.sail_last : lay.st.fin_last;
+    // Sector q has the boundary at j = na, sector q - 1 at j = 0.
+    for (const int sector : {q, (q + 3) % 4}) {
+      const bool at_j0 = sector != q;
+      Block& b = sectors[static_cast<std::size_t>(sector)];
+      wrap_appendage(b, sector, at_j0, *a, i_first, i_last, lay.spec.cells_span, lay.ft);
+      Patch p;
+      p.side = at_j0 ? 2 : 3;
+      p.lo = {i_first, 0, 0};
+      p.hi = {i_last, na, lay.spec.cells_span};
+      p.label = a->name();
+      b.patches.push_back(p);
+    }
+  }
+}
+
+// The pole squares, as in body_of_revolution.cpp, with their meridians' lines.
+Block make_pole_block(const Layout& lay, bool tail) {
+  const std::size_t line = tail ? static_cast<std::size_t>(lay.nl) : 0;
+  Block b = make_pole_square(lay.meridian, lay.az, lay.rho, lay.nk, tail,
+                             [&](const SurfacePoint& p, int k) { return lay.node(p, line, k); });
+  add_hull_patches(b);
+  return b;
+}
+
+// Cut the blocks where the appendages' faces end, so that every face is either a whole
+// wall or a whole interface.
+Grid cut_at_appendage_edges(const std::vector<Block>& blocks, const Layout& lay) {
+  static constexpr const char* stretch[] = {"bow", "sail", "middle", "fin", "stern"};
+  const std::vector<int> i_cuts{0, lay.st.sail_first, lay.st.sail_last, lay.st.fin_first, lay.st.fin_last, lay.nl};
+  const std::vector<int> k_cuts{0, lay.spec.cells_span, lay.nk};
+  Grid cut;
+  for (const Block& b : blocks) {
+    const bool square = b.name == "nose" || b.name == "tail";
+    const std::vector<int> ic = square ? std::vector<int>{0, b.ni} : i_cuts;
+    for (std::size_t a = 0; a + 1 < ic.size(); ++a)
+      for (std::size_t c = 0; c + 1 < k_cuts.size(); ++c) {
+        const std::string name = square ? fmt::format("{}_{}", b.name, c == 0 ? "inner" : "outer")
+                                        : fmt::format("{}_{}_{}", b.name, stretch[a], c == 0 ? "inner" : "outer");
+        cut.blocks.push_back(extract_block(b, name, {ic[a], 0, k_cuts[c]}, {ic[a + 1], b.nj, k_cuts[c + 1]}));
+      }
+  }
+  return cut;
+}
+
 }  // namespace
 
 Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
@@ -234,136 +399,12 @@ Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
       suboff::make_configuration(spec.configuration, spec.deflections, spec.sail_crest_slope);
   if (spec.configuration == "full") fail("appended SUBOFF grid: the sail planes ('full') are not meshed yet");
 
-  const Real L = spec.length, ft = L / suboff::kOverallLength;
-  const BodyProfile profile = suboff_profile(L);
-  const Meridian m(profile);
-  const Real S = m.length();
-  const Real rho = na * spec.pole_spacing / std::sqrt(2.0);
-  const Stations st = make_stations(spec, m, rho, ft);
-  const int nl = static_cast<int>(st.s.size()) - 1, nk = spec.cells_span + spec.cells_outer;
-
-  // Azimuths: uniform (as the bare grids) at the poles and away from the appendages;
-  // clustered at a sector boundary where an appendage may stand there (whatever the
-  // configuration, so that all share the grid), with the first spacing fin_spacing at the
-  // largest radius an appendage reaches (the sail's crest).
-  const Azimuth az{na, {}};
-  const Real crest = suboff::Sail(spec.sail_crest_slope).tip(3.45) * ft;
-  const AzimuthBlend azimuths(na, spec.fin_spacing / crest);
-  BodyGridSpec es;
-  es.far_field = spec.far_field;
-  es.cells_normal = 1;
-  es.first_spacing = spec.far_field * L;
-  const Extrusion ex(es, m, L);
-
-  // Near the poles the stations of an off-boundary meridian shift with its square edge
-  // (re, not rho), as in body_of_revolution.cpp; elsewhere every meridian has the boundary's.
-  auto pole_shift = [&](Real s) {
-    const Real f = (s - rho) / (S - 2.0 * rho), reach = 0.03;
-    if (f < reach) return std::pow(1.0 - f / reach, 2);
-    if (f > 1.0 - reach) return -std::pow(1.0 - (1.0 - f) / reach, 2);
-    return 0.0;
-  };
-  for (std::size_t i = 0; i < st.s.size(); ++i)
-    if (pole_shift(st.s[i]) != 0.0 && st.lines[i].fin_weight != 0.0)
-      fail("appended SUBOFF grid: station {} follows an appendage inside a pole stretch; use a smaller pole spacing", i);
-  std::vector<std::vector<Real>> distances;
-  for (const auto& w : st.lines) distances.push_back(line_distances(spec, w.d_tip));
-
-  // How strongly the azimuths cluster at boundary q at station i, level k: the window's
-  // weight, fading above the tip level over three spans (over one, the grid coarsened
-  // twice, a multigrid level, had folded cells above the sail's tip). The sail stands at
-  // 270 degrees only.
-  auto clustering = [&](int q, std::size_t i, int k) {
-    const WallLine& w = st.lines[i];
-    if (w.near_sail && q != 3) return 0.0;
-    const Real above_tip = distances[i][static_cast<std::size_t>(k)] - w.d_tip;
-    return w.fin_weight * (1.0 - smoothstep(above_tip / (3.0 * w.d_tip)));
-  };
-
-  Grid g;
-  for (int sector = 0; sector < 4; ++sector) {
-    Block b(fmt::format("sector_{}", sector * 90), nl, na, nk);
-    for (int i = 0; i <= nl; ++i) {
-      const std::size_t ui = static_cast<std::size_t>(i);
-      if (i == 0 || i == nl || pole_shift(st.s[ui]) != 0.0) {
-        // Near the poles: each meridian's own stations, uniform azimuths, as the squares.
-        for (int j = 0; j <= na; ++j) {
-          const int ma = (sector + 1) * na - j;
-          const auto end = diamond(rho, az, ma);
-          const Real re = std::hypot(end[0], end[1]);
-          const SurfacePoint p = i == 0 || i == nl ? near_pole(m, end, i == nl)
-                                                   : surface(m, st.s[ui] + (re - rho) * pole_shift(st.s[ui]), az.unit(ma));
-          for (int k = 0; k <= nk; ++k) b.x(i, j, k) = line_node(ex, p, st.lines[ui], distances[ui][static_cast<std::size_t>(k)]);
-        }
-        continue;
-      }
-      // Elsewhere every meridian has the same line: place its nodes at each one's azimuth.
-      const SurfacePoint p = surface(m, st.s[ui], {1.0, 0.0});
-      for (int k = 0; k <= nk; ++k) {
-        const Vec3 xr = line_node(ex, p, st.lines[ui], distances[ui][static_cast<std::size_t>(k)]);
-        const std::vector<Real> within = azimuths.within(clustering((sector + 1) % 4, ui, k), clustering(sector, ui, k));
-        for (int j = 0; j <= na; ++j) {
-          // j = 0 and j = na are the boundaries: exact axes, shared bit for bit with the neighbour.
-          const auto [c, sn] = j == 0 ? az.unit((sector + 1) * na)
-                               : j == na ? az.unit(sector * na)
-                                         : std::array<Real, 2>{std::cos((sector + 1) * 0.5 * kPi - within[static_cast<std::size_t>(j)]),
-                                                               std::sin((sector + 1) * 0.5 * kPi - within[static_cast<std::size_t>(j)])};
-          b.x(i, j, k) = Vec3(xr[0], xr[1] * c, xr[1] * sn);
-        }
-      }
-    }
-    add_hull_patches(b);
-    g.blocks.push_back(std::move(b));
-  }
-
-  // The appendages: each in the boundary plane its span direction points to.
-  for (const auto& a : config.appendages) {
-    const Vec3 span = suboff::to_grid_axes(a->span_direction);
-    const Real phi0 = std::atan2(span[2], span[1]);
-    const int q = (static_cast<int>(std::lround(phi0 / (0.5 * kPi))) + 4) % 4;
-    const bool is_sail = a->name() == "sail";
-    const int i_first = is_sail ? st.sail_first : st.fin_first, i_last = is_sail ? st.sail_last : st.fin_last;
-    // Sector q has the boundary at j = na, sector q - 1 at j = 0.
-    for (const int sector : {q, (q + 3) % 4}) {
-      const bool at_j0 = sector != q;
-      Block& b = g.blocks[static_cast<std::size_t>(sector)];
-      wrap_appendage(b, sector, at_j0, *a, i_first, i_last, spec.cells_span, ft);
-      Patch p;
-      p.side = at_j0 ? 2 : 3;
-      p.lo = {i_first, 0, 0};
-      p.hi = {i_last, na, spec.cells_span};
-      p.label = a->name();
-      b.patches.push_back(p);
-    }
-  }
-
-  // The pole squares, as in body_of_revolution.cpp, with their meridians' lines.
-  for (const bool tail : {false, true}) {
-    const std::size_t line = tail ? static_cast<std::size_t>(nl) : 0;
-    Block b = make_pole_square(m, az, rho, nk, tail, [&](const SurfacePoint& p, int k) {
-      return line_node(ex, p, st.lines[line], distances[line][static_cast<std::size_t>(k)]);
-    });
-    add_hull_patches(b);
-    g.blocks.push_back(std::move(b));
-  }
-
-  // Cut the blocks where the appendages' faces end, so that every face is either a whole
-  // wall or a whole interface.
-  static constexpr const char* stretch[] = {"bow", "sail", "middle", "fin", "stern"};
-  const std::vector<int> i_cuts{0, st.sail_first, st.sail_last, st.fin_first, st.fin_last, nl};
-  const std::vector<int> k_cuts{0, spec.cells_span, nk};
-  Grid cut;
-  for (const Block& b : g.blocks) {
-    const bool square = b.name == "nose" || b.name == "tail";
-    const std::vector<int> ic = square ? std::vector<int>{0, na} : i_cuts;
-    for (std::size_t a = 0; a + 1 < ic.size(); ++a)
-      for (std::size_t c = 0; c + 1 < k_cuts.size(); ++c) {
-        const std::string name = square ? fmt::format("{}_{}", b.name, c == 0 ? "inner" : "outer")
-                                        : fmt::format("{}_{}_{}", b.name, stretch[a], c == 0 ? "inner" : "outer");
-        cut.blocks.push_back(extract_block(b, name, {ic[a], 0, k_cuts[c]}, {ic[a + 1], b.nj, k_cuts[c + 1]}));
-      }
-  }
-  return cut;  // the free faces are connected by finalize_grid (mesh/setup.hpp)
+  const Layout layout(spec);
+  std::vector<Block> blocks;
+  for (int sector = 0; sector < 4; ++sector) blocks.push_back(make_sector_block(layout, sector));
+  attach_appendages(blocks, layout, config);
+  for (const bool tail : {false, true}) blocks.push_back(make_pole_block(layout, tail));
+  return cut_at_appendage_edges(blocks, layout);  // the free faces are connected by finalize_grid (mesh/setup.hpp)
 }
 
 }  // namespace narwhal

@@ -142,14 +142,7 @@ inline SurfacePoint near_pole(const Meridian& m, const std::array<Real, 2>& xy, 
 // multiple of na) get exact cosines and sines.
 struct Azimuth {
   int na;
-  // Azimuths within a sector, from 0 to pi/2 (na + 1 of them); empty: uniform. The
-  // appended grids cluster them at the sector boundaries, where the fins stand.
-  std::vector<Real> within{};
-  Real phi(int m) const {
-    m %= 4 * na;
-    if (within.empty()) return m * (0.5 * kPi / na);
-    return (m / na) * (0.5 * kPi) + within[static_cast<std::size_t>(m % na)];
-  }
+  Real phi(int m) const { return (m % (4 * na)) * (0.5 * kPi / na); }
   std::array<Real, 2> unit(int m) const {
     m %= 4 * na;
     if (m % na == 0) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "core/error.hpp"
 
 namespace narwhal::suboff {
@@ -170,7 +172,7 @@ const std::vector<std::string>& configuration_names() {
 Configuration make_configuration(const std::string& name, const Deflections& d, Real sail_crest_slope) {
   const auto& names = configuration_names();
   if (std::find(names.begin(), names.end(), name) == names.end())
-    fail("SUBOFF configuration '{}': expected one of bare, sail, stern4, sail_stern4, full", name);
+    fail("SUBOFF configuration '{}': expected one of {}", name, fmt::join(names, ", "));
   Configuration c{name, {}};
   const bool sail = name == "sail" || name == "sail_stern4" || name == "full";
   const bool stern = name == "stern4" || name == "sail_stern4" || name == "full";
