@@ -73,10 +73,7 @@ Real spacing_for_y_plus(const ConfigReader& r, const std::string& key, Real leng
 // the first spacings follow y+ targets (hull: the hull's Reynolds number; appendages: their
 // own, on the stern appendages' mean chord) unless given as lengths.
 void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
-  // The configurations the grid meshes: all but "full" (its sail planes are not meshed yet).
-  std::vector<std::string> meshed;
-  for (const auto& name : suboff::configuration_names())
-    if (name != "full") meshed.push_back(name);
+  const std::vector<std::string> meshed = appended_suboff_configurations();
   const std::string expected = fmt::format("one of {}", fmt::join(meshed, ", "));
   a.configuration = r.string_or("grid.configuration", a.configuration, "the appendages: " + expected);
   if (std::find(meshed.begin(), meshed.end(), a.configuration) == meshed.end())

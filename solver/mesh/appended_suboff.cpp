@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "core/error.hpp"
 #include "mesh/generators.hpp"
@@ -228,7 +229,7 @@ void add_hull_patches(Block& b) {
 // extrusion keeps a reference to the meridian).
 struct Layout {
   const AppendedSuboffSpec& spec;
-  Real L, ft;
+  Real ft;
   Meridian meridian;
   Real S, rho;  // the meridian's length; the pole squares' half-diagonal
   Stations st;
@@ -276,7 +277,6 @@ BodyGridSpec far_field_extrusion(const AppendedSuboffSpec& spec) {
 // largest radius an appendage reaches (the sail's crest).
 Layout::Layout(const AppendedSuboffSpec& s)
     : spec(s),
-      L(s.length),
       ft(s.length / suboff::kOverallLength),
       meridian(suboff_profile(s.length)),
       S(meridian.length()),
@@ -390,14 +390,24 @@ Grid cut_at_appendage_edges(const std::vector<Block>& blocks, const Layout& lay)
 
 }  // namespace
 
+std::vector<std::string> appended_suboff_configurations() {
+  std::vector<std::string> meshed;
+  for (const auto& name : suboff::configuration_names())
+    if (name != "full") meshed.push_back(name);
+  return meshed;
+}
+
 Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
   const int na = spec.cells_around;
   if (na < 2 || na % 2 != 0) fail("appended SUBOFF grid: cells_around ({}) must be even", na);
   if (spec.deflections.rudder != 0.0 || spec.deflections.stern_planes != 0.0 || spec.deflections.sail_planes != 0.0)
     fail("appended SUBOFF grid: deflected control surfaces are not meshed yet");
+  const auto meshed = appended_suboff_configurations();
+  if (std::find(meshed.begin(), meshed.end(), spec.configuration) == meshed.end())
+    fail("appended SUBOFF grid: configuration '{}' is not meshed (expected one of {})", spec.configuration,
+         fmt::join(meshed, ", "));
   const suboff::Configuration config =
       suboff::make_configuration(spec.configuration, spec.deflections, spec.sail_crest_slope);
-  if (spec.configuration == "full") fail("appended SUBOFF grid: the sail planes ('full') are not meshed yet");
 
   const Layout layout(spec);
   std::vector<Block> blocks;

@@ -25,6 +25,7 @@
 // each appendage's name (sail, upper_rudder, lower_rudder, starboard_stern_plane,
 // port_stern_plane).
 #include <string>
+#include <vector>
 
 #include "mesh/block.hpp"
 #include "mesh/suboff_geometry.hpp"
@@ -61,6 +62,10 @@ struct AppendedSuboffSpec {
   // cells at its crest are sheared by about this ratio.
   Real sail_crest_slope = 4.0;
 };
+
+// The configurations these grids mesh: suboff::configuration_names() but `full` (its sail
+// planes are not meshed yet).
+std::vector<std::string> appended_suboff_configurations();
 
 Grid make_appended_suboff(const AppendedSuboffSpec& spec);
 
