@@ -1,7 +1,7 @@
 """Rung definitions (validation/cases/<rung>/case.toml), read strictly.
 
-A rung declares the solver runs it needs (optionally grouped in grid families), the
-tiers they belong to, and its checks. Unknown keys, wrong types and missing keys are
+A rung declares the solver runs it needs (optionally grouped in grid families, or
+declared as a sweep of one case key), the tiers they belong to, and its checks. Unknown keys, wrong types and missing keys are
 errors naming the file and the dotted key.
 """
 import difflib
@@ -30,6 +30,18 @@ class Run:
                               # solution.cgns on the same grid it starts from)
     ranks: int = 0            # MPI ranks (mpirun); 0: validation/run --ranks (default 1)
     code: str = "narwhal"     # or a peer code on the same case and grid (PEER_CODES)
+    sweep: str = ""           # the id of the sweep this run is a point of, '' for none
+    sweep_value: float = 0.0  # the swept variable's value at this point
+
+
+@dataclass
+class Sweep:
+    """Captive runs that differ in one case key (a drift angle, an angle of attack, a
+    control deflection): one run per value, ids "<id>_<value>" (sweep_run_id)."""
+    id: str
+    variable: str        # the dotted case key swept, passed as narwhal --set
+    values: tuple
+    run_ids: tuple
 
 
 @dataclass
@@ -101,6 +113,7 @@ class Rung:
     checks: list
     pictures: list
     reported: list = field(default_factory=list)
+    sweeps: list = field(default_factory=list)
 
 
 class _Reader:
@@ -158,6 +171,46 @@ def _literal(v):
     raise HarnessError(f"cannot pass {v!r} to narwhal --set")
 
 
+def sweep_run_id(sweep_id, value):
+    """The id of a sweep's run at `value`: -4 -> "<id>_m4", 2.5 -> "<id>_2p5"."""
+    text = f"{float(value):g}".replace("-", "m").replace(".", "p").replace("+", "")
+    return f"{sweep_id}_{text}"
+
+
+def _read_sweeps(top, path, tiers):
+    """The [[sweep]] tables and the runs they expand into."""
+    sweeps, runs = [], []
+    for i, t in enumerate(top.get("sweep", list, "an array of [[sweep]] tables", default=[])):
+        r = _Reader(path, t, f"sweep[{i}].")
+        sid = r.get("id", str, "a sweep id", required=True)
+        inp = path.parent / r.get("input", str, "the solver input file (relative to the rung)", required=True)
+        if not inp.exists():
+            raise HarnessError(f"{path}: key 'sweep[{i}].input': solver input '{inp}' does not exist")
+        variable = r.get("variable", str, "the dotted case key swept, e.g. \"flow.drift_angle\"", required=True)
+        if "." not in variable:
+            raise HarnessError(f"{path}: key 'sweep[{i}].variable': expected a dotted case key such as "
+                               f"\"flow.drift_angle\", got {variable!r}")
+        values = r.get("values", list, "a list of the swept variable's values", required=True)
+        if not values or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values):
+            raise HarnessError(f"{path}: key 'sweep[{i}].values': expected a non-empty list of numbers, got {values!r}")
+        values = tuple(float(v) for v in values)
+        if len(set(values)) != len(values):
+            raise HarnessError(f"{path}: key 'sweep[{i}].values': values repeat: {list(values)}")
+        sets = {k: _literal(v) for k, v in r.get("set", dict, "a table of overrides", default={}).items()}
+        if variable in sets:
+            raise HarnessError(f"{path}: key 'sweep[{i}].set': sets the swept variable '{variable}'")
+        run_tiers = _tiers(r, "tiers", tiers, "a list of tiers")
+        max_iterations = r.get("max_iterations", int, "an iteration limit", default=0)
+        ranks = r.get("ranks", int, "a number of MPI ranks", default=0)
+        r.finish()
+        ids = tuple(sweep_run_id(sid, v) for v in values)
+        sweeps.append(Sweep(id=sid, variable=variable, values=values, run_ids=ids))
+        for rid, v in zip(ids, values):
+            runs.append(Run(id=rid, input=inp, tiers=run_tiers, set={**sets, variable: _literal(v)},
+                            max_iterations=max_iterations, ranks=ranks, sweep=sid, sweep_value=v))
+    return sweeps, runs
+
+
 def load_rung(path):
     path = Path(path)
     try:
@@ -198,9 +251,13 @@ def load_rung(path):
         if runs[-1].code != "narwhal" and runs[-1].max_iterations <= 0:
             raise HarnessError(f"{path}: run '{rid}': a peer run needs max_iterations (its iteration count)")
         r.finish()
+    sweeps, sweep_runs = _read_sweeps(top, path, tiers)
+    runs += sweep_runs
     ids = [x.id for x in runs]
     if len(set(ids)) != len(ids):
-        raise HarnessError(f"{path}: run ids must be unique, got {ids}")
+        raise HarnessError(f"{path}: run ids must be unique (a sweep's are <sweep id>_<value>), got {ids}")
+    if len({x.id for x in sweeps}) != len(sweeps):
+        raise HarnessError(f"{path}: sweep ids must be unique, got {[x.id for x in sweeps]}")
     for x in runs:
         if x.family and x.h <= 0.0:
             raise HarnessError(f"{path}: run '{x.id}' is in family '{x.family}' but has no positive 'h'")
@@ -284,7 +341,7 @@ def load_rung(path):
         pictures.append(pic)
     top.finish()
     return Rung(name=path.parent.name, title=title, directory=path.parent, tiers=tiers, timeout_s=timeout,
-                runs=runs, checks=checks, pictures=pictures, reported=reported)
+                runs=runs, checks=checks, pictures=pictures, reported=reported, sweeps=sweeps)
 
 
 def discover(cases_dir):

@@ -128,6 +128,27 @@ class RungFiles(unittest.TestCase):
         self.assertIn("unknown run 'b'", self.error(GOOD + pic.replace('then = ["a"]', 'then = ["b"]')))
         self.assertIn("picture[0].then", self.error(GOOD + pic.replace('"wake_strip"', '"axial"')))
 
+    def test_a_sweep_expands_into_one_run_per_value(self):
+        sweep = ('\n[[sweep]]\nid = "drift"\ninput = "in.toml"\nvariable = "flow.drift_angle"\n'
+                 'values = [-4, 0, 2.5]\nset = { "grid.configuration" = "bare" }\nmax_iterations = 50\n')
+        rung = load_rung(self.write(GOOD + sweep))
+        self.assertEqual([(s.id, s.variable, s.values, s.run_ids) for s in rung.sweeps],
+                         [("drift", "flow.drift_angle", (-4.0, 0.0, 2.5), ("drift_m4", "drift_0", "drift_2p5"))])
+        points = [r for r in rung.runs if r.sweep == "drift"]
+        self.assertEqual([(r.id, r.sweep_value, r.max_iterations, r.tiers) for r in points],
+                         [("drift_m4", -4.0, 50, ("quick",)), ("drift_0", 0.0, 50, ("quick",)),
+                          ("drift_2p5", 2.5, 50, ("quick",))])
+        self.assertEqual(points[0].set, {"grid.configuration": '"bare"', "flow.drift_angle": "-4.0"})
+        self.assertIn("sweep[0].values", self.error(GOOD + sweep.replace("[-4, 0, 2.5]", "[]")))
+        self.assertIn("sweep[0].values", self.error(GOOD + sweep.replace("[-4, 0, 2.5]", "[1, 1.0]")))
+        self.assertIn("sweep[0].values", self.error(GOOD + sweep.replace("[-4, 0, 2.5]", '["4"]')))
+        self.assertIn("sweep[0].variable", self.error(GOOD + sweep.replace('"flow.drift_angle"', '"drift"')))
+        self.assertIn("sweep[0].set", self.error(GOOD + sweep.replace('"grid.configuration"', '"flow.drift_angle"')))
+        self.assertIn("sweep[0].input", self.error(GOOD + sweep.replace('input = "in.toml"', 'input = "no.toml"')))
+        self.assertIn("unknown key 'sweep[0].value'", self.error(GOOD + sweep + "value = 1\n"))
+        self.assertIn("run ids must be unique", self.error(GOOD.replace('id = "a"', 'id = "drift_0"') + sweep))
+        self.assertIn("sweep ids must be unique", self.error(GOOD + sweep + sweep.replace("[-4, 0, 2.5]", "[8]")))
+
     def test_misspelled_key_is_named_with_a_suggestion(self):
         msg = self.error(GOOD.replace("tolerance = 1.0", "tolerence = 1.0\ntolerance = 1.0"))
         self.assertIn("unknown key 'check[0].tolerence'", msg)
