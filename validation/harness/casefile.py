@@ -177,15 +177,21 @@ def sweep_run_id(sweep_id, value):
     return f"{sweep_id}_{text}"
 
 
+def _input_and_overrides(r, path, table):
+    """A run's or a sweep's solver input (which must exist) and its `set` overrides as --set literals."""
+    inp = path.parent / r.get("input", str, "the solver input file (relative to the rung)", required=True)
+    if not inp.exists():
+        raise HarnessError(f"{path}: key '{table}.input': solver input '{inp}' does not exist")
+    return inp, {k: _literal(v) for k, v in r.get("set", dict, "a table of overrides", default={}).items()}
+
+
 def _read_sweeps(top, path, tiers):
     """The [[sweep]] tables and the runs they expand into."""
     sweeps, runs = [], []
     for i, t in enumerate(top.get("sweep", list, "an array of [[sweep]] tables", default=[])):
         r = _Reader(path, t, f"sweep[{i}].")
         sid = r.get("id", str, "a sweep id", required=True)
-        inp = path.parent / r.get("input", str, "the solver input file (relative to the rung)", required=True)
-        if not inp.exists():
-            raise HarnessError(f"{path}: key 'sweep[{i}].input': solver input '{inp}' does not exist")
+        inp, sets = _input_and_overrides(r, path, f"sweep[{i}]")
         variable = r.get("variable", str, "the dotted case key swept, e.g. \"flow.drift_angle\"", required=True)
         if "." not in variable:
             raise HarnessError(f"{path}: key 'sweep[{i}].variable': expected a dotted case key such as "
@@ -196,7 +202,6 @@ def _read_sweeps(top, path, tiers):
         values = tuple(float(v) for v in values)
         if len(set(values)) != len(values):
             raise HarnessError(f"{path}: key 'sweep[{i}].values': values repeat: {list(values)}")
-        sets = {k: _literal(v) for k, v in r.get("set", dict, "a table of overrides", default={}).items()}
         if variable in sets:
             raise HarnessError(f"{path}: key 'sweep[{i}].set': sets the swept variable '{variable}'")
         run_tiers = _tiers(r, "tiers", tiers, "a list of tiers")
@@ -233,10 +238,7 @@ def load_rung(path):
     for i, t in enumerate(top.get("run", list, "an array of [[run]] tables", default=[])):
         r = _Reader(path, t, f"run[{i}].")
         rid = r.get("id", str, "a run id", required=True)
-        inp = path.parent / r.get("input", str, "the solver input file (relative to the rung)", required=True)
-        if not inp.exists():
-            raise HarnessError(f"{path}: key 'run[{i}].input': solver input '{inp}' does not exist")
-        sets = {k: _literal(v) for k, v in r.get("set", dict, "a table of overrides", default={}).items()}
+        inp, sets = _input_and_overrides(r, path, f"run[{i}]")
         runs.append(Run(id=rid, input=inp, tiers=_tiers(r, "tiers", tiers, "a list of tiers"), set=sets,
                         family=r.get("family", str, "a grid-family name", default=""),
                         h=r.get("h", float, "the representative grid spacing", default=0.0),
