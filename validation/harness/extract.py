@@ -9,6 +9,7 @@ import numpy as np
 
 from . import exact
 from . import body  # noqa: F401  (registers recirculation_length, surface_taps)
+from . import captive  # noqa: F401  (registers sweep_coefficient, sweep_derivative, sweep_oddness)
 from . import duct  # noqa: F401  (registers duct_flow)
 from . import motion  # noqa: F401  (registers oscillation_force)
 from .compare import Curve, Family

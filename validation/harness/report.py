@@ -498,15 +498,42 @@ def _rung_page(rung_dir, res):
             else:
                 body += f"<p>{html.escape(pic['title'])}: run '{html.escape(pic['run'])}' left no surface file</p>"
     if res.get("reported"):
-        body += ("<h2>Reported (no reference, no tolerance)</h2><table><tr><th>quantity</th><th>value</th>"
-                 "<th>unit</th></tr>" + "".join(
-                     f"<tr><td>{html.escape(q['name'])}</td><td class=num>"
-                     f"{_fmt(q['value']) if q.get('value') is not None else html.escape(q.get('error', ''))}</td>"
-                     f"<td>{html.escape(q.get('unit', ''))}</td></tr>" for q in res["reported"]) + "</table>")
+        body += _reported_section(res["reported"], rung_dir)
     prov = res.get("provenance", {})
     body += "<h2>Provenance</h2><table>" + "".join(
         f"<tr><th>{html.escape(k)}</th><td>{_fmt(v)}</td></tr>" for k, v in prov.items()) + "</table>"
     (rung_dir / "index.html").write_text(_page(f"{res['rung']}: {res.get('title', '')}", body, depth=1))
+
+
+def _reported_value(q):
+    if q.get("value") is not None:
+        return _fmt(q["value"])
+    if q.get("curve"):
+        return "plotted below"
+    return html.escape(q.get("error", ""))
+
+
+def _plot_reported_curve(q, path):
+    """A reported curve (a sweep's coefficient against the swept variable): points joined."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    ax.plot(q["curve"]["x"], q["curve"]["y"], "o-", ms=4, color="tab:blue", label="Narwhal")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel(q["curve"].get("label", "").partition(" vs ")[2] or "x")
+    ax.set_ylabel(q.get("unit") or q["name"])
+    _title(ax, q["name"])
+    _save(fig, path)
+
+
+def _reported_section(reported, rung_dir):
+    body = ("<h2>Reported (no reference, no tolerance)</h2><table><tr><th>quantity</th><th>value</th>"
+            "<th>unit</th></tr>" + "".join(
+                f"<tr><td>{html.escape(q['name'])}</td><td class=num>{_reported_value(q)}</td>"
+                f"<td>{html.escape(q.get('unit', ''))}</td></tr>" for q in reported) + "</table>")
+    for i, q in enumerate(reported):
+        if q.get("curve"):
+            _plot_reported_curve(q, rung_dir / f"reported_{i}.png")
+            body += f"<img src='reported_{i}.png' alt='{html.escape(q['name'])}'>"
+    return body
 
 
 def _perf_history(reports, tier):

@@ -228,13 +228,17 @@ def _run_peer(r, rd, n, narwhal, out_dir, remaining):
 
 
 def _reported(ctx, q):
-    """A reported quantity's value, or the error that kept it from being extracted
-    (shown in the report; it fails nothing, having no tolerance)."""
+    """A reported quantity's value (a number, or a curve the report draws: a sweep's
+    coefficients), or the error that kept it from being extracted (shown in the report;
+    it fails nothing, having no tolerance)."""
     entry = {"name": q.name, "unit": q.unit, "value": None}
     try:
         v = extract(ctx, q.extract)
-        if isinstance(v, (Curve, Family)):
-            raise HarnessError("a reported quantity must be a scalar")
+        if isinstance(v, Family):
+            raise HarnessError("a reported quantity must be a number or a curve, not a grid family")
+        if isinstance(v, Curve):
+            entry["curve"] = {"x": v.x.tolist(), "y": v.y.tolist(), "label": v.label}
+            return entry
         entry["value"] = float(v)
     except HarnessError as e:
         entry["error"] = str(e)

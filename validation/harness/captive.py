@@ -1,0 +1,153 @@
+"""Extractors of captive sweeps ([[sweep]] in a rung): the forces and moments of the runs of
+one sweep in the captive-model literature's form, their symmetry, and the linear
+derivatives fitted to them. Registered in schema.EXTRACT like the others.
+
+Coefficients: X', Y', Z' = F / (1/2 rho U^2 L^2) and K', M', N' = M / (1/2 rho U^2 L^3)
+in body axes (x forward, y starboard, z down; motion/grid_axes.hpp), about the run's
+output.moment_centre, from run.json's forces[group].body_axes summed over the groups
+named (the hull's and each appendage's walls make the vehicle's). Narwhal divides by
+output.reference_area and output.reference_length, so a sweep's runs must set those to
+L^2 and L (checked).
+
+The velocity components the derivatives are taken against follow the free stream set by
+flow.angle_of_attack (alpha) and flow.drift_angle (beta), motion/grid_axes.hpp:
+v' = v / U = -sin(beta), w' = w / U = sin(alpha) cos(beta).
+"""
+import json
+import math
+
+import numpy as np
+
+from .compare import Curve
+from .errors import HarnessError
+from .schema import extractor
+
+COMPONENTS = ("X", "Y", "Z", "K", "M", "N")
+AGAINST = ("v", "w", "radians", "degrees")
+STATISTICS = ("slope", "standard_error")
+
+
+def _sweep(ctx, spec):
+    name = spec.get("sweep")
+    found = [s for s in ctx.rung.sweeps if s.id == name]
+    if not found:
+        raise HarnessError(f"rung '{ctx.rung.name}': no sweep {name!r}; sweeps: "
+                           + (", ".join(s.id for s in ctx.rung.sweeps) or "none"))
+    return found[0]
+
+
+def _choice(spec, key, valid, default=None):
+    value = spec.get(key, default)
+    if value not in valid:
+        raise HarnessError(f"extractor '{spec.get('kind')}': '{key}' must be one of {', '.join(valid)}, got {value!r}")
+    return value
+
+
+def _input_number(ctx, run_id, dotted, default):
+    try:
+        return float(ctx.input_value(run_id, dotted))
+    except HarnessError:
+        return default
+
+
+def coefficient(ctx, run_id, component, groups):
+    """A run's body-axes coefficient `component`, summed over the wall groups `groups`."""
+    length = _input_number(ctx, run_id, "grid.length", 1.0)
+    area = _input_number(ctx, run_id, "output.reference_area", 1.0)
+    arm = _input_number(ctx, run_id, "output.reference_length", 1.0)
+    if not (math.isclose(area, length ** 2, rel_tol=1e-12) and math.isclose(arm, length, rel_tol=1e-12)):
+        raise HarnessError(f"run '{run_id}': captive coefficients need output.reference_area = L^2 and "
+                           f"output.reference_length = L (L = grid.length = {length}); got {area} and {arm}")
+    with open(ctx.run_dir(run_id) / "run.json") as f:
+        forces = json.load(f).get("forces", {})
+    total = 0.0
+    for g in groups:
+        if g not in forces:
+            raise HarnessError(f"run.json of '{run_id}' has no force group {g!r} (groups: {', '.join(forces)})")
+        total += float(forces[g]["body_axes"][component])
+    return total
+
+
+def _groups(spec):
+    groups = spec.get("groups")
+    if not isinstance(groups, list) or not groups or not all(isinstance(g, str) for g in groups):
+        raise HarnessError(f"extractor '{spec.get('kind')}': 'groups' must be a non-empty list of wall groups "
+                           f"(run.json forces), got {groups!r}")
+    return groups
+
+
+def _abscissa(ctx, run_id, value, against):
+    """The variable a derivative is taken against, at one point of the sweep."""
+    if against == "degrees":
+        return value
+    if against == "radians":
+        return math.radians(value)
+    alpha = math.radians(_input_number(ctx, run_id, "flow.angle_of_attack", 0.0))
+    beta = math.radians(_input_number(ctx, run_id, "flow.drift_angle", 0.0))
+    return -math.sin(beta) if against == "v" else math.sin(alpha) * math.cos(beta)
+
+
+def _points(ctx, spec, against):
+    """(abscissae, coefficients) of the sweep's runs, in the order of its values."""
+    sweep = _sweep(ctx, spec)
+    component = _choice(spec, "component", COMPONENTS)
+    groups = _groups(spec)
+    x, y = [], []
+    for run_id, value in zip(sweep.run_ids, sweep.values):
+        x.append(_abscissa(ctx, run_id, value, against))
+        y.append(coefficient(ctx, run_id, component, groups))
+    return sweep, np.array(x), np.array(y)
+
+
+@extractor("sweep_coefficient", "sweep", "component", "groups")
+def sweep_coefficient(ctx, spec, run_id):
+    """The coefficient against the swept variable (its own values, e.g. degrees)."""
+    sweep, x, y = _points(ctx, spec, "degrees")
+    order = np.argsort(x)
+    return Curve(x[order], y[order], f"{spec['component']}' vs {sweep.variable}")
+
+
+def linear_fit(x, y):
+    """Least-squares y = a + b x: (b, standard error of b). The standard error is that of
+    the slope given the scatter about the line (n - 2 degrees of freedom); with two points
+    it is undefined (nan)."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    if x.size < 2 or np.ptp(x) == 0.0:
+        raise HarnessError(f"a linear fit needs two or more distinct abscissae, got {x.tolist()}")
+    xm = x.mean()
+    sxx = float(np.sum((x - xm) ** 2))
+    b = float(np.sum((x - xm) * (y - y.mean())) / sxx)
+    a = float(y.mean() - b * xm)
+    if x.size == 2:
+        return b, math.nan
+    residual = y - (a + b * x)
+    return b, math.sqrt(float(np.sum(residual ** 2)) / (x.size - 2) / sxx)
+
+
+@extractor("sweep_derivative", "sweep", "component", "groups", "against", "max_angle", "statistic")
+def sweep_derivative(ctx, spec, run_id):
+    """The linear derivative of a coefficient (Y'v, N'v with against = "v"; Z'w, M'w with
+    "w"; Y'delta with "radians"), fitted by least squares to the sweep's points whose swept
+    value lies within max_angle (degrees) of zero; statistic = "standard_error" gives the
+    fit's standard error instead of the slope (the scatter of the points about the line:
+    non-linearity within the range and iteration error)."""
+    against = _choice(spec, "against", AGAINST)
+    statistic = _choice(spec, "statistic", STATISTICS, "slope")
+    sweep, x, y = _points(ctx, spec, against)
+    limit = float(spec.get("max_angle", math.inf))
+    inside = np.abs(np.array(sweep.values)) <= limit
+    slope, error = linear_fit(x[inside], y[inside])
+    return slope if statistic == "slope" else error
+
+
+@extractor("sweep_oddness", "sweep", "component", "groups")
+def sweep_oddness(ctx, spec, run_id):
+    """max |C(a) + C(-a)| over the sweep's values a whose opposite is also swept (a = 0
+    with itself: 2 |C(0)|). A symmetric configuration's side force, roll and yaw moment are
+    odd in the drift angle: this is zero up to discretization asymmetry and iteration error."""
+    sweep, x, y = _points(ctx, spec, "degrees")
+    by_value = dict(zip(sweep.values, y))
+    pairs = [abs(c + by_value[-a]) for a, c in by_value.items() if -a in by_value]
+    if not pairs:
+        raise HarnessError(f"sweep '{sweep.id}': no value has its opposite swept (values {list(sweep.values)})")
+    return max(pairs)

@@ -1,0 +1,143 @@
+"""Captive-sweep extractors on hand-made run.json files: coefficients summed over wall
+groups in body axes, the derivative against v' = -sin(beta) with its standard error, the
+oddness of a symmetric configuration's side force, and the refusals."""
+import json
+import math
+import tempfile
+import textwrap
+import unittest
+from pathlib import Path
+
+import support  # noqa: F401
+
+from harness.captive import linear_fit
+from harness.casefile import load_rung
+from harness.errors import HarnessError
+from harness.extract import Context, extract
+from harness.runner import effective_input
+
+RUNG = """
+[rung]
+title = "t"
+tiers = ["quick"]
+
+[[sweep]]
+id = "drift"
+input = "in.toml"
+variable = "flow.drift_angle"
+values = [-8, -4, 0, 4, 8]
+
+[[check]]
+name = "c"
+extract = { kind = "sweep_oddness", sweep = "drift", component = "Y", groups = ["body", "sail"] }
+comparator = "max"
+tolerance = 1e-6
+rationale = "because"
+"""
+
+INPUT = """
+[grid]
+length = 2.0
+[output]
+reference_area = 4.0
+reference_length = 2.0
+"""
+
+
+def side_force(beta_deg):
+    """Y' of a made-up hull: linear in v' plus a cubic term (cross-flow drag)."""
+    v = -math.sin(math.radians(beta_deg))
+    return -0.03 * v + 0.1 * v ** 3
+
+
+class CaptiveSweeps(unittest.TestCase):
+    def setUp(self):
+        self.dir = Path(tempfile.mkdtemp())
+        case = self.dir / "rung"
+        case.mkdir()
+        (case / "in.toml").write_text(textwrap.dedent(INPUT))
+        (case / "case.toml").write_text(textwrap.dedent(RUNG))
+        self.rung = load_rung(case / "case.toml")
+
+    def context(self, split=(0.75, 0.25), inputs=None):
+        """Runs whose hull and sail carry `split` of Y' (and of the other components, scaled)."""
+        dirs, effective = {}, {}
+        for run in self.rung.runs:
+            d = self.dir / "runs" / run.id
+            d.mkdir(parents=True, exist_ok=True)
+            y = side_force(run.sweep_value)
+            forces = {g: {"body_axes": {"X": -0.001 * s, "Y": y * s, "Z": 0.0, "K": 0.1 * y * s, "M": 0.0,
+                                        "N": 0.5 * y * s}} for g, s in zip(("body", "sail"), split)}
+            (d / "run.json").write_text(json.dumps({"forces": forces}))
+            dirs[run.id] = d
+            effective[run.id] = effective_input(run) if inputs is None else inputs
+        return Context(self.rung, dirs, effective)
+
+    def test_coefficients_are_summed_over_the_groups_against_the_swept_values(self):
+        curve = extract(self.context(), {"kind": "sweep_coefficient", "sweep": "drift", "component": "Y",
+                                         "groups": ["body", "sail"]})
+        self.assertEqual(curve.x.tolist(), [-8.0, -4.0, 0.0, 4.0, 8.0])
+        for b, y in zip(curve.x, curve.y):
+            self.assertAlmostEqual(y, side_force(b), places=15)
+
+    def test_the_derivative_against_v_is_the_linear_term_with_the_cubics_scatter_as_its_error(self):
+        ctx = self.context()
+        spec = {"kind": "sweep_derivative", "sweep": "drift", "component": "Y", "groups": ["body", "sail"],
+                "against": "v", "max_angle": 4.0}
+        slope = extract(ctx, spec)
+        # Three points in v' = 0, +-sin 4 deg: the line through them has slope
+        # -0.03 + 0.1 * (2 v^3) v / (2 v^2) = -0.03 + 0.1 v^2 exactly (odd data, symmetric points).
+        v = math.sin(math.radians(4.0))
+        self.assertAlmostEqual(slope, -0.03 + 0.1 * v * v, places=14)
+        # Odd data on symmetric points lie on the fitted line: the scatter is zero.
+        self.assertAlmostEqual(extract(ctx, {**spec, "statistic": "standard_error"}), 0.0, places=14)
+        wide = extract(ctx, {**spec, "max_angle": 8.0, "statistic": "standard_error"})
+        self.assertGreater(wide, 0.0)
+
+    def test_the_oddness_of_an_odd_sweep_is_round_off_and_an_offset_shows(self):
+        spec = {"kind": "sweep_oddness", "sweep": "drift", "component": "N", "groups": ["body", "sail"]}
+        self.assertLess(extract(self.context(), spec), 1e-17)
+        ctx = self.context()
+        path = ctx.run_dir("drift_0") / "run.json"
+        data = json.loads(path.read_text())
+        data["forces"]["sail"]["body_axes"]["N"] = 1e-5
+        path.write_text(json.dumps(data))
+        self.assertAlmostEqual(extract(ctx, spec), 2e-5, places=18)
+
+    def test_refusals_name_what_is_wrong(self):
+        ctx = self.context()
+        base = {"kind": "sweep_coefficient", "sweep": "drift", "component": "Y", "groups": ["body"]}
+        for bad, said in (({"sweep": "beta"}, "no sweep 'beta'"), ({"component": "Q"}, "'component' must be"),
+                          ({"groups": []}, "'groups' must be"), ({"groups": ["rudder"]}, "no force group 'rudder'")):
+            with self.assertRaises(HarnessError) as cm:
+                extract(ctx, {**base, **bad})
+            self.assertIn(said, str(cm.exception))
+        wrong_area = self.context(inputs={"grid": {"length": 2.0}, "output": {"reference_area": 1.0}})
+        with self.assertRaises(HarnessError) as cm:
+            extract(wrong_area, base)
+        self.assertIn("reference_area = L^2", str(cm.exception))
+
+    def test_a_reported_sweep_curve_is_drawn_in_the_report(self):
+        from harness import report
+        from harness.casefile import Reported
+        from harness.runner import _reported
+        q = Reported(name="Y' against drift", tiers=("quick",), unit="Y'",
+                     extract={"kind": "sweep_coefficient", "sweep": "drift", "component": "Y", "groups": ["body"]})
+        entry = _reported(self.context(), q)
+        self.assertEqual(entry["curve"]["x"], [-8.0, -4.0, 0.0, 4.0, 8.0])
+        html = report._reported_section([entry], self.dir)
+        self.assertIn("plotted below", html)
+        self.assertIn("<img src='reported_0.png'", html)
+        self.assertGreater((self.dir / "reported_0.png").stat().st_size, 1000)
+
+    def test_linear_fit_recovers_a_line_and_refuses_a_single_abscissa(self):
+        slope, error = linear_fit([0.0, 1.0, 2.0, 3.0], [1.0, 3.0, 5.0, 7.0])
+        self.assertAlmostEqual(slope, 2.0, places=14)
+        self.assertAlmostEqual(error, 0.0, places=14)
+        self.assertTrue(math.isnan(linear_fit([0.0, 1.0], [0.0, 1.0])[1]))
+        with self.assertRaises(HarnessError):
+            linear_fit([1.0, 1.0], [0.0, 2.0])
+
+
+if __name__ == "__main__":
+    unittest.main()
