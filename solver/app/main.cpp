@@ -44,16 +44,25 @@ int check_case(const std::string& path, const std::vector<std::string>& override
       fmt::print("    {:5s} {:>24s}  {}\n", side_name(p.side), p.label, to_string(p.type));
   }
   fmt::print("  flow: Re = {:g}, beta = {:g}\n", c.flow.reynolds, c.flow.beta);
-  // The levels a run would build: each coarsening must be possible on this grid.
+  // The levels a run would build: each coarsening must be possible on this grid; the
+  // run stops early where a level would keep too few cells (solver.multigrid_min_cells).
+  const MultigridSettings& ms = c.solver.multigrid;
   Grid level = g;
-  for (int l = 1; l < c.solver.multigrid.levels; ++l) {
+  int levels = 1;
+  std::string stop;
+  for (; levels < ms.levels; ++levels) {
     const std::string why = why_not_coarsenable(level);
     if (!why.empty())
       fail("{}: key 'solver.multigrid_levels': {} levels need {} coarsenings, but coarsening {} fails: {}", path,
-           c.solver.multigrid.levels, c.solver.multigrid.levels - 1, l, why);
+           ms.levels, ms.levels - 1, levels, why);
+    stop = why_not_coarsenable(level, ms.min_cells);
+    if (!stop.empty()) break;
     level = coarsen(level);
   }
-  fmt::print("  multigrid: {} level(s)\n", c.solver.multigrid.levels);
+  if (stop.empty())
+    fmt::print("  multigrid: {} level(s)\n", levels);
+  else
+    fmt::print("  multigrid: {} level(s) of {} (solver.multigrid_min_cells: {})\n", levels, ms.levels, stop);
   return 0;
 }
 

@@ -496,6 +496,9 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   auto& mg = s.multigrid;
   mg.levels = r.integer_or("solver.multigrid_levels", 1, "the number of multigrid levels (1: single grid)",
                           Range::between(1, 16));
+  mg.min_cells = r.integer_or("solver.multigrid_min_cells", mg.min_cells,
+                              "the fewest cells a coarse level keeps in any halved direction of a block",
+                              Range::between(1, kMaxCellsPerDirection));
   const std::string cyc = r.string_or("solver.multigrid_cycle", "W", "V or W");
   if (cyc != "V" && cyc != "W") r.error("solver.multigrid_cycle", "expected \"V\" or \"W\", got '" + cyc + "'");
   mg.gamma = cyc == "W" ? 2 : 1;

@@ -10,13 +10,17 @@ Index3 coarsening_factors(const Block& b) {
   return c;
 }
 
-std::string why_not_coarsenable(const Grid& g) {
+std::string why_not_coarsenable(const Grid& g, int min_cells) {
   for (const Block& b : g.blocks) {
     const Index3 c = coarsening_factors(b);
     if (c == Index3{1, 1, 1}) return fmt::format("block '{}' has a single cell in every direction", b.name);
     for (int d = 0; d < 3; ++d)
       if (c[d] == 2 && b.n(d) % 2 != 0)
         return fmt::format("block '{}' has {} cells in direction {} (odd)", b.name, b.n(d), "ijk"[d]);
+    for (int d = 0; d < 3; ++d)
+      if (c[d] == 2 && b.n(d) / 2 < min_cells)
+        return fmt::format("block '{}' would keep {} cell(s) in direction {} (fewer than {})", b.name, b.n(d) / 2,
+                           "ijk"[d], min_cells);
     for (const Patch& p : b.patches)
       for (int d = 0; d < 3; ++d)
         if (d != side_dir(p.side) && c[d] == 2 && (p.lo[d] % 2 != 0 || p.hi[d] % 2 != 0))

@@ -13,8 +13,9 @@ namespace narwhal {
 // Coarsening factor (1 or 2) of each direction of a block.
 Index3 coarsening_factors(const Block& b);
 
-// Why `g` cannot be coarsened once more ("" when it can).
-std::string why_not_coarsenable(const Grid& g);
+// Why `g` cannot be coarsened once more ("" when it can): a direction that cannot halve,
+// or (multigrid) one that would keep fewer than `min_cells` cells in some block.
+std::string why_not_coarsenable(const Grid& g, int min_cells = 1);
 
 // The next coarser grid (ghost nodes and metrics prepared).
 Grid coarsen(const Grid& g);

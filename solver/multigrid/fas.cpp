@@ -43,7 +43,7 @@ Multigrid::Multigrid(Grid& fine, FlowField& field, const FlowParams& fp, const N
   top.fp = fp;
   levels_.push_back(std::move(top));
   while (static_cast<int>(levels_.size()) < ms.levels) {
-    const std::string why = why_not_coarsenable(*levels_.back().grid);
+    const std::string why = why_not_coarsenable(*levels_.back().grid, ms.min_cells);
     if (!why.empty()) {
       note_ = fmt::format("multigrid: {} level(s) instead of {}: {}", levels_.size(), ms.levels, why);
       break;

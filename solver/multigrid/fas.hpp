@@ -24,6 +24,11 @@ struct MultigridSettings {
   bool injection = false;  // prolongation by injection instead of trilinear
   bool reuse_jacobian = true;  // post-smoothing keeps the pre-smoothing block matrices
   int jacobian_interval = 1;   // block matrices reassembled every this many cycles
+  // The fewest cells a coarse level keeps in any halved direction of a block: a level
+  // whose blocks would keep fewer is not built. A body grid's pole squares two cells
+  // across on the coarsest level gave corrections that made its nose diverge
+  // (mesh/DESIGN.md, "The root cause"); 1 builds every level the grid allows.
+  int min_cells = 1;
 };
 
 class Multigrid {

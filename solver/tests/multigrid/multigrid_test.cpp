@@ -65,6 +65,32 @@ TEST(Coarsening, SingleCellDirectionsAreKeptAndOddCountsExplained) {
   EXPECT_NE(why_not_coarsenable(c3).find("odd"), std::string::npos) << why_not_coarsenable(c3);
 }
 
+// A level whose blocks would keep fewer than min_cells cells in a halved direction is not
+// built; the note says which block stopped it.
+TEST(Multigrid, LevelsStopWhereABlockWouldKeepTooFewCells) {
+  Grid g = rotated_split_box(16);  // blocks of 8 x 8 x 16 cells
+  EXPECT_EQ(why_not_coarsenable(g, 4), "");
+  const Grid c = coarsen(g);       // 4 x 4 x 8: halving again would keep 2
+  EXPECT_NE(why_not_coarsenable(c, 4).find("would keep 2 cell(s) in direction i (fewer than 4)"), std::string::npos)
+      << why_not_coarsenable(c, 4);
+  EXPECT_EQ(why_not_coarsenable(c), "");
+  CaseConfig cc = load_case(test::source_path("validation/cases/mms/mms.toml"));
+  const FlowParams fp = flow_params(cc);
+  for (const int min_cells : {1, 4}) {
+    Grid grid = rotated_split_box(16);
+    FlowField f;
+    f.allocate(grid, fp, cc.initial);
+    MultigridSettings ms;
+    ms.levels = 4;
+    ms.min_cells = min_cells;
+    Multigrid mg(grid, f, fp, cc.solver.newton, ms);
+    EXPECT_EQ(mg.levels(), min_cells == 1 ? 4 : 2);
+    if (min_cells == 4) {
+      EXPECT_NE(mg.level_note().find("fewer than 4"), std::string::npos) << mg.level_note();
+    }
+  }
+}
+
 TEST(Multigrid, MultiblockMultigridConvergesToTheSingleGridAnswer) {
   CaseConfig c = load_case(test::source_path("validation/cases/mms/mms.toml"));
   c.grid.perturbed_cells = 16;
