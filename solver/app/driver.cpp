@@ -95,6 +95,7 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
                    {"muscl_phi", c.flow.muscl.phi},
                    {"cfl_start", c.solver.newton.cfl_start},
                    {"cfl_max", c.solver.newton.cfl_max},
+                   {"cfl_growth", c.solver.newton.cfl_growth},
                    {"sgs_iterations", c.solver.newton.sgs_iterations},
                    {"max_iterations", c.solver.max_iterations},
                    {"residual_drop_target", c.solver.residual_drop},
@@ -307,7 +308,10 @@ class SteadyRun {
     } else {
       single_ = std::make_unique<NewtonSolver>(g_, field_, fp_, c_.solver.newton);
     }
-    if (opt_.restart) solver().set_reference_norm(info_.reference_norm);
+    if (opt_.restart) {
+      solver().set_reference_norm(info_.reference_norm);
+      solver().set_last_cfl(info_.cfl);
+    }
     TurbulenceStartState restored;
     if (opt_.restart)
       restored = {info_.turbulence_starting, info_.turbulence_start_ended, info_.start_window, info_.start_components};

@@ -488,6 +488,11 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   s.newton.cfl_start = r.number_or("solver.cfl_start", s.newton.cfl_start, "the initial CFL number", Range::positive());
   s.newton.cfl_max = r.number_or("solver.cfl_max", s.newton.cfl_max, "the largest CFL number",
                                  Range::at_least(s.newton.cfl_start));
+  s.newton.cfl_growth = r.number_or("solver.cfl_growth", s.newton.cfl_growth,
+                                    "the largest factor the CFL may grow by per iteration (0: no limit)",
+                                    Range::at_least(0.0));
+  if (s.newton.cfl_growth > 0.0 && s.newton.cfl_growth <= 1.0)
+    r.error("solver.cfl_growth", fmt::format("expected 0 (no limit) or a factor > 1, got {}", s.newton.cfl_growth));
   s.newton.sgs_iterations = r.integer_or("solver.sgs_iterations", s.newton.sgs_iterations,
                                          "symmetric Gauss-Seidel iterations per Newton iteration", kSweepCount);
   // A step beyond 1e-2 is no longer a derivative of the flux.

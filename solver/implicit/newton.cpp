@@ -282,7 +282,10 @@ void NewtonSolver::sweep_block(int ib, bool forward) {
 
 Real NewtonSolver::ser_cfl(Real norm) {
   if (ref_norm_ <= 0.0) ref_norm_ = norm;
-  return std::min(s_.cfl_max, s_.cfl_start * ref_norm_ / std::max(norm, 1e-300));
+  Real cfl = std::min(s_.cfl_max, s_.cfl_start * ref_norm_ / std::max(norm, 1e-300));
+  if (s_.cfl_growth > 0.0 && last_cfl_ > 0.0) cfl = std::min(cfl, s_.cfl_growth * last_cfl_);
+  last_cfl_ = cfl;
+  return cfl;
 }
 
 IterationNorms NewtonSolver::iterate() {

@@ -16,6 +16,11 @@ namespace narwhal {
 struct NewtonSettings {
   Real cfl_start = 10.0;
   Real cfl_max = 1.0e6;
+  // The largest factor by which SER may raise the CFL from one iteration to the next
+  // (0: no limit, §6.6 as written). The SER CFL follows the residual's first fall, which
+  // from a uniform stream is fast: 1 to 1e3 in about nine SUBOFF cycles, faster than the
+  // wall layers' k and omega settle, and some such starts diverged (mesh/DESIGN.md).
+  Real cfl_growth = 0.0;
   int sgs_iterations = 3;   // forward+backward pairs per Newton iteration
   Real fd_epsilon = 1e-7;   // finite-difference step of the numerical Jacobians
   Real relaxation = 1.0;    // omega_N
@@ -60,7 +65,8 @@ class NewtonSolver {
   // Allow reusing matrices assembled at another CFL (Jacobian freezing across cycles).
   void allow_stale_cfl(bool ok) { stale_cfl_ok_ = ok; }
 
-  // SER CFL for a residual norm (§6.6); fixes the reference norm on first use.
+  // SER CFL for a residual norm (§6.6), its growth limited by cfl_growth; fixes the
+  // reference norm on first use.
   Real ser_cfl(Real norm);
 
   // FAS forcing f (§7.2): the smoother then drives R(Q) - f to zero. nullptr: none.
@@ -73,9 +79,11 @@ class NewtonSolver {
   // Residual of the current state (fills ghosts), without updating.
   IterationNorms evaluate_residual();
 
-  // SER reference norm, saved in restarts so a continued run follows the same path.
+  // SER reference norm and the last CFL (which cfl_growth limits from), saved in
+  // restarts so a continued run follows the same path.
   Real reference_norm() const { return ref_norm_; }
   void set_reference_norm(Real r) { ref_norm_ = r; }
+  void set_last_cfl(Real cfl) { last_cfl_ = cfl; }
 
   // R(Q) - f of the last evaluation (cell-integrated, no ghosts).
   const std::vector<GhostArray<State>>& residual() const { return R_; }
@@ -98,6 +106,7 @@ class NewtonSolver {
   FlowParams fp_;
   NewtonSettings s_;
   Real ref_norm_ = -1.0;
+  Real last_cfl_ = -1.0;  // < 0: none yet
   const std::vector<GhostArray<State>>* forcing_ = nullptr;
   const PhysicalTimeTerm* time_ = nullptr;
   bool assembled_ = false;

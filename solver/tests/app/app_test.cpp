@@ -325,6 +325,42 @@ TEST(Restart, TurbulentMultigridRunContinuesBitForBit) {
   }
 }
 
+// solver.cfl_growth: the SER CFL rises by at most the factor per cycle (without it, it
+// jumps), and a run resumed from a restart continues the limited ramp bit for bit.
+TEST(CflGrowth, SerCflRisesByAtMostTheFactorAndRestartsContinueTheRamp) {
+  const std::string file = test::source_path("validation/cases/tmr_flat_plate/flat_plate_sst.toml");
+  auto cfl_column = [](const fs::path& history) {
+    std::vector<Real> cfl;
+    for (const std::string& row : test::history_rows(history.string())) {
+      const auto a = row.find(','), b = row.find(',', a + 1);
+      cfl.push_back(std::stod(row.substr(a + 1, b - a - 1)));
+    }
+    return cfl;
+  };
+  auto largest_rise = [](const std::vector<Real>& cfl) {
+    Real rise = 0.0;
+    for (std::size_t i = 1; i < cfl.size(); ++i) rise = std::max(rise, cfl[i] / cfl[i - 1]);
+    return rise;
+  };
+  const fs::path dir = test::fresh_temp_dir("narwhal_cfl_growth_test");
+  fs::remove_all(dir);
+  RunOptions free_ramp;
+  free_ramp.out_dir = (dir / "free").string();
+  free_ramp.max_iterations = 15;
+  run_case(load_case(file, {"grid.coarsen=3", "solver.residual_drop=1e-15"}), free_ramp);
+  EXPECT_GT(largest_rise(cfl_column(dir / "free" / "history.csv")), 1.5);
+
+  const CaseConfig c = load_case(file, {"grid.coarsen=3", "solver.residual_drop=1e-15", "solver.cfl_growth=1.2"});
+  expect_restart_reproduces_history(c, "narwhal_cfl_growth_restart", 30, 15);
+  RunOptions limited;
+  limited.out_dir = (dir / "limited").string();
+  limited.max_iterations = 30;
+  run_case(c, limited);
+  const std::vector<Real> cfl = cfl_column(dir / "limited" / "history.csv");
+  EXPECT_LE(largest_rise(cfl), 1.2 * (1.0 + 1e-5));  // the history prints 6 significant digits
+  EXPECT_GT(largest_rise(cfl), 1.19);                // the limit was what held it
+}
+
 // A small non-linear k-epsilon duct whose start (window 5, span 0.1) ends at cycle 12.
 CaseConfig small_duct_with_start() {
   return load_case(test::source_path("validation/cases/square_duct_turbulent/duct_nl.toml"),

@@ -73,7 +73,8 @@ TEST(Hardening, NonFiniteAndOutOfRangeNumbersAreRefused) {
         "solver.residual_drop=2.0", "solver.divergence_factor=nan", "solver.divergence_factor=0.5",
         "solver.fd_epsilon=0.0", "output.reference_area=0.0", "output.reference_length=-inf",
         "bc.inlet.velocity=[nan, 0.0, 0.0]", "bc.top.velocity=[1.0, inf, 0.0]", "turbulence.intensity=-1.0",
-        "flow.reynolds=inf", "flow.beta=-nan", "flow.initial_velocity=[0.0, nan, 0.0]"}) {
+        "flow.reynolds=inf", "flow.beta=-nan", "flow.initial_velocity=[0.0, nan, 0.0]", "solver.cfl_growth=-1.0",
+        "solver.cfl_growth=1.0", "solver.cfl_growth=nan", "solver.multigrid_min_cells=0"}) {
     const std::string key = s.substr(0, s.find('='));
     const std::string e = error_with({s});
     EXPECT_NE(e.find("key '" + key + "'"), std::string::npos) << s << ": " << e;
