@@ -5,9 +5,10 @@ derivatives fitted to them. Registered in schema.EXTRACT like the others.
 Coefficients: X', Y', Z' = F / (1/2 rho U^2 L^2) and K', M', N' = M / (1/2 rho U^2 L^3)
 in body axes (x forward, y starboard, z down; motion/grid_axes.hpp), about the run's
 output.moment_centre, from run.json's forces[group].body_axes summed over the groups
-named (the hull's and each appendage's walls make the vehicle's). Narwhal divides by
-output.reference_area and output.reference_length, so a sweep's runs must set those to
-L^2 and L (checked).
+named (the hull's and each appendage's walls make the vehicle's). L is the extraction's
+`length` (default grid.length; the captive-model data use the length between
+perpendiculars). Narwhal divides by output.reference_area and output.reference_length,
+so a sweep's runs must set those to L^2 and L (checked).
 
 The velocity components the derivatives are taken against follow the free stream set by
 flow.angle_of_attack (alpha) and flow.drift_angle (beta), motion/grid_axes.hpp:
@@ -50,14 +51,16 @@ def _input_number(ctx, run_id, dotted, default):
         return default
 
 
-def coefficient(ctx, run_id, component, groups):
-    """A run's body-axes coefficient `component`, summed over the wall groups `groups`."""
-    length = _input_number(ctx, run_id, "grid.length", 1.0)
+def coefficient(ctx, run_id, component, groups, length=None):
+    """A run's body-axes coefficient `component`, summed over the wall groups `groups`; L is
+    `length` (default grid.length)."""
+    length = _input_number(ctx, run_id, "grid.length", 1.0) if length is None else float(length)
     area = _input_number(ctx, run_id, "output.reference_area", 1.0)
     arm = _input_number(ctx, run_id, "output.reference_length", 1.0)
-    if not (math.isclose(area, length ** 2, rel_tol=1e-12) and math.isclose(arm, length, rel_tol=1e-12)):
+    # To 1e-6: case files carry L and L^2 to six or seven digits.
+    if not (math.isclose(area, length ** 2, rel_tol=1e-6) and math.isclose(arm, length, rel_tol=1e-6)):
         raise HarnessError(f"run '{run_id}': captive coefficients need output.reference_area = L^2 and "
-                           f"output.reference_length = L (L = grid.length = {length}); got {area} and {arm}")
+                           f"output.reference_length = L (L = {length}); got {area} and {arm}")
     with open(ctx.run_dir(run_id) / "run.json") as f:
         forces = json.load(f).get("forces", {})
     total = 0.0
@@ -95,11 +98,11 @@ def _points(ctx, spec, against):
     x, y = [], []
     for run_id, value in zip(sweep.run_ids, sweep.values):
         x.append(_abscissa(ctx, run_id, value, against))
-        y.append(coefficient(ctx, run_id, component, groups))
+        y.append(coefficient(ctx, run_id, component, groups, spec.get("length")))
     return sweep, np.array(x), np.array(y)
 
 
-@extractor("sweep_coefficient", "sweep", "component", "groups")
+@extractor("sweep_coefficient", "sweep", "component", "groups", "length")
 def sweep_coefficient(ctx, spec, run_id):
     """The coefficient against the swept variable (its own values, e.g. degrees)."""
     sweep, x, y = _points(ctx, spec, "degrees")
@@ -124,7 +127,7 @@ def linear_fit(x, y):
     return b, math.sqrt(float(np.sum(residual ** 2)) / (x.size - 2) / sxx)
 
 
-@extractor("sweep_derivative", "sweep", "component", "groups", "against", "max_angle", "statistic")
+@extractor("sweep_derivative", "sweep", "component", "groups", "length", "against", "max_angle", "statistic")
 def sweep_derivative(ctx, spec, run_id):
     """The linear derivative of a coefficient (Y'v, N'v with against = "v"; Z'w, M'w with
     "w"; Y'delta with "radians"), fitted by least squares to the sweep's points whose swept
@@ -140,7 +143,7 @@ def sweep_derivative(ctx, spec, run_id):
     return slope if statistic == "slope" else error
 
 
-@extractor("sweep_oddness", "sweep", "component", "groups")
+@extractor("sweep_oddness", "sweep", "component", "groups", "length")
 def sweep_oddness(ctx, spec, run_id):
     """max |C(a) + C(-a)| over the sweep's values a whose opposite is also swept (a = 0
     with itself: 2 |C(0)|). A symmetric configuration's side force, roll and yaw moment are
@@ -151,3 +154,19 @@ def sweep_oddness(ctx, spec, run_id):
     if not pairs:
         raise HarnessError(f"sweep '{sweep.id}': no value has its opposite swept (values {list(sweep.values)})")
     return max(pairs)
+
+
+@extractor("sweep_largest", "sweep", "field")
+def sweep_largest(ctx, spec, run_id):
+    """The largest value of a run.json number over the sweep's runs: with field =
+    "force_span", how far from steady the least steady point's forces still were."""
+    sweep = _sweep(ctx, spec)
+    field = spec.get("field")
+    values = []
+    for rid in sweep.run_ids:
+        with open(ctx.run_dir(rid) / "run.json") as f:
+            data = json.load(f)
+        if not isinstance(data.get(field), (int, float)) or isinstance(data.get(field), bool):
+            raise HarnessError(f"run.json of '{rid}' has no number '{field}'")
+        values.append(float(data[field]))
+    return max(values)

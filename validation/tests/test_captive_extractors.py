@@ -68,7 +68,7 @@ class CaptiveSweeps(unittest.TestCase):
             y = side_force(run.sweep_value)
             forces = {g: {"body_axes": {"X": -0.001 * s, "Y": y * s, "Z": 0.0, "K": 0.1 * y * s, "M": 0.0,
                                         "N": 0.5 * y * s}} for g, s in zip(("body", "sail"), split)}
-            (d / "run.json").write_text(json.dumps({"forces": forces}))
+            (d / "run.json").write_text(json.dumps({"forces": forces, "force_span": 1e-7 * (1 + abs(run.sweep_value))}))
             dirs[run.id] = d
             effective[run.id] = effective_input(run) if inputs is None else inputs
         return Context(self.rung, dirs, effective)
@@ -104,6 +104,14 @@ class CaptiveSweeps(unittest.TestCase):
         path.write_text(json.dumps(data))
         self.assertAlmostEqual(extract(ctx, spec), 2e-5, places=18)
 
+    def test_the_least_steady_point_is_found(self):
+        ctx = self.context()
+        self.assertAlmostEqual(extract(ctx, {"kind": "sweep_largest", "sweep": "drift", "field": "force_span"}), 9e-7,
+                               places=20)
+        with self.assertRaises(HarnessError) as cm:
+            extract(ctx, {"kind": "sweep_largest", "sweep": "drift", "field": "span"})
+        self.assertIn("no number 'span'", str(cm.exception))
+
     def test_refusals_name_what_is_wrong(self):
         ctx = self.context()
         base = {"kind": "sweep_coefficient", "sweep": "drift", "component": "Y", "groups": ["body"]}
@@ -116,6 +124,9 @@ class CaptiveSweeps(unittest.TestCase):
         with self.assertRaises(HarnessError) as cm:
             extract(wrong_area, base)
         self.assertIn("reference_area = L^2", str(cm.exception))
+        # Another length than the grid's (the captive data's L_BP) when the run is set for it.
+        other = self.context(inputs={"grid": {"length": 2.0}, "output": {"reference_area": 0.25, "reference_length": 0.5}})
+        self.assertEqual(extract(other, {**base, "length": 0.5}).y.size, 5)
 
     def test_a_reported_sweep_curve_is_drawn_in_the_report(self):
         from harness import report
