@@ -44,25 +44,14 @@ int check_case(const std::string& path, const std::vector<std::string>& override
       fmt::print("    {:5s} {:>24s}  {}\n", side_name(p.side), p.label, to_string(p.type));
   }
   fmt::print("  flow: Re = {:g}, beta = {:g}\n", c.flow.reynolds, c.flow.beta);
-  // The levels a run would build: each coarsening must be possible on this grid; the
-  // run stops early where a level would keep too few cells (solver.multigrid_min_cells).
+  // The levels a run would build, decided as the run decides them.
   const MultigridSettings& ms = c.solver.multigrid;
-  Grid level = g;
-  int levels = 1;
-  std::string stop;
-  for (; levels < ms.levels; ++levels) {
-    const std::string why = why_not_coarsenable(level);
-    if (!why.empty())
-      fail("{}: key 'solver.multigrid_levels': {} levels need {} coarsenings, but coarsening {} fails: {}", path,
-           ms.levels, ms.levels - 1, levels, why);
-    stop = why_not_coarsenable(level, ms.min_cells);
-    if (!stop.empty()) break;
-    level = coarsen(level);
-  }
-  if (stop.empty())
+  const CoarseLevels coarse = coarse_levels(g, ms.levels, ms.min_cells);
+  const std::size_t levels = coarse.grids.size() + 1;
+  if (coarse.stop.empty())
     fmt::print("  multigrid: {} level(s)\n", levels);
   else
-    fmt::print("  multigrid: {} level(s) of {} (solver.multigrid_min_cells: {})\n", levels, ms.levels, stop);
+    fmt::print("  multigrid: {} level(s) of {} ({})\n", levels, ms.levels, coarse.stop);
   return 0;
 }
 

@@ -20,4 +20,14 @@ std::string why_not_coarsenable(const Grid& g, int min_cells = 1);
 // The next coarser grid (ghost nodes and metrics prepared).
 Grid coarsen(const Grid& g);
 
+// The coarse levels FAS multigrid builds below `fine` (NUMERICS §7.1): up to `levels` - 1
+// of them, stopping where a coarsening is impossible or would keep fewer than `min_cells`
+// cells in some block; `stop` says why it stopped short ("" when all were built). The one
+// place that decides the hierarchy: the solver and `narwhal check` both ask it.
+struct CoarseLevels {
+  std::vector<Grid> grids;
+  std::string stop;
+};
+CoarseLevels coarse_levels(const Grid& fine, int levels, int min_cells);
+
 }  // namespace narwhal

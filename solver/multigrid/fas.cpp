@@ -42,14 +42,12 @@ Multigrid::Multigrid(Grid& fine, FlowField& field, const FlowParams& fp, const N
   top.field = &field;
   top.fp = fp;
   levels_.push_back(std::move(top));
-  while (static_cast<int>(levels_.size()) < ms.levels) {
-    const std::string why = why_not_coarsenable(*levels_.back().grid, ms.min_cells);
-    if (!why.empty()) {
-      note_ = fmt::format("multigrid: {} level(s) instead of {}: {}", levels_.size(), ms.levels, why);
-      break;
-    }
+  CoarseLevels coarse = coarse_levels(fine, ms.levels, ms.min_cells);
+  if (!coarse.stop.empty())
+    note_ = fmt::format("multigrid: {} level(s) instead of {}: {}", coarse.grids.size() + 1, ms.levels, coarse.stop);
+  for (Grid& g : coarse.grids) {
     Level l;
-    l.owned = std::make_unique<Grid>(coarsen(*levels_.back().grid));
+    l.owned = std::make_unique<Grid>(std::move(g));
     l.grid = l.owned.get();
     l.fp = fp;
     l.fp.muscl.phi = 0.0;  // §7.3: first-order inviscid flux on coarse levels

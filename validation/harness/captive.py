@@ -160,13 +160,5 @@ def sweep_oddness(ctx, spec, run_id):
 def sweep_largest(ctx, spec, run_id):
     """The largest value of a run.json number over the sweep's runs: with field =
     "force_span", how far from steady the least steady point's forces still were."""
-    sweep = _sweep(ctx, spec)
-    field = spec.get("field")
-    values = []
-    for rid in sweep.run_ids:
-        with open(ctx.run_dir(rid) / "run.json") as f:
-            data = json.load(f)
-        if not isinstance(data.get(field), (int, float)) or isinstance(data.get(field), bool):
-            raise HarnessError(f"run.json of '{rid}' has no number '{field}'")
-        values.append(float(data[field]))
-    return max(values)
+    from .extract import run_json  # here, not at the top: extract imports this module to register it
+    return max(run_json(ctx, {"field": spec.get("field")}, rid) for rid in _sweep(ctx, spec).run_ids)

@@ -30,8 +30,6 @@ class Run:
                               # solution.cgns on the same grid it starts from)
     ranks: int = 0            # MPI ranks (mpirun); 0: validation/run --ranks (default 1)
     code: str = "narwhal"     # or a peer code on the same case and grid (PEER_CODES)
-    sweep: str = ""           # the id of the sweep this run is a point of, '' for none
-    sweep_value: float = 0.0  # the swept variable's value at this point
 
 
 @dataclass
@@ -186,13 +184,30 @@ def _input_and_overrides(r, path, table):
 
 
 def _read_sweeps(top, path, tiers):
-    """The [[sweep]] tables and the runs they expand into."""
-    sweeps, runs = [], []
+    """The [[sweep]] tables and the runs they expand into. A sweep with `like = "<id>"`
+    repeats an earlier sweep (its input, variable, overrides, tiers, ranks, iteration
+    limit) with its own values and the overrides it adds: the same captive setup on
+    another grid is one line, not a copy."""
+    sweeps, runs, setups = [], [], {}
     for i, t in enumerate(top.get("sweep", list, "an array of [[sweep]] tables", default=[])):
         r = _Reader(path, t, f"sweep[{i}].")
         sid = r.get("id", str, "a sweep id", required=True)
-        inp, sets = _input_and_overrides(r, path, f"sweep[{i}]")
-        variable = r.get("variable", str, "the dotted case key swept, e.g. \"flow.drift_angle\"", required=True)
+        if sid in setups:
+            raise HarnessError(f"{path}: key 'sweep[{i}].id': sweep ids must be unique; {sid!r} repeats")
+        like = r.get("like", str, "the id of an earlier sweep this one repeats", default="")
+        if like and like not in setups:
+            raise HarnessError(f"{path}: key 'sweep[{i}].like': expected the id of an earlier sweep "
+                               f"({', '.join(setups) or 'none'}), got {like!r}")
+        base = setups.get(like, {"input": None, "variable": None, "set": {}, "tiers": tuple(tiers),
+                                 "max_iterations": 0, "ranks": 0})
+        if like and "input" not in t:
+            inp, sets = base["input"], {**base["set"]}
+            sets.update({k: _literal(v) for k, v in r.get("set", dict, "a table of overrides", default={}).items()})
+        else:
+            inp, own = _input_and_overrides(r, path, f"sweep[{i}]")
+            sets = {**base["set"], **own}
+        variable = r.get("variable", str, "the dotted case key swept, e.g. \"flow.drift_angle\"",
+                         default=base["variable"], required=not like)
         if "." not in variable:
             raise HarnessError(f"{path}: key 'sweep[{i}].variable': expected a dotted case key such as "
                                f"\"flow.drift_angle\", got {variable!r}")
@@ -204,15 +219,17 @@ def _read_sweeps(top, path, tiers):
             raise HarnessError(f"{path}: key 'sweep[{i}].values': values repeat: {list(values)}")
         if variable in sets:
             raise HarnessError(f"{path}: key 'sweep[{i}].set': sets the swept variable '{variable}'")
-        run_tiers = _tiers(r, "tiers", tiers, "a list of tiers")
-        max_iterations = r.get("max_iterations", int, "an iteration limit", default=0)
-        ranks = r.get("ranks", int, "a number of MPI ranks", default=0)
+        setup = {"input": inp, "variable": variable, "set": sets,
+                 "tiers": _tiers(r, "tiers", base["tiers"], "a list of tiers"),
+                 "max_iterations": r.get("max_iterations", int, "an iteration limit", default=base["max_iterations"]),
+                 "ranks": r.get("ranks", int, "a number of MPI ranks", default=base["ranks"])}
         r.finish()
+        setups[sid] = setup
         ids = tuple(sweep_run_id(sid, v) for v in values)
         sweeps.append(Sweep(id=sid, variable=variable, values=values, run_ids=ids))
         for rid, v in zip(ids, values):
-            runs.append(Run(id=rid, input=inp, tiers=run_tiers, set={**sets, variable: _literal(v)},
-                            max_iterations=max_iterations, ranks=ranks, sweep=sid, sweep_value=v))
+            runs.append(Run(id=rid, input=inp, tiers=setup["tiers"], set={**sets, variable: _literal(v)},
+                            max_iterations=setup["max_iterations"], ranks=setup["ranks"]))
     return sweeps, runs
 
 

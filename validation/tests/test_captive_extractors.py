@@ -62,13 +62,14 @@ class CaptiveSweeps(unittest.TestCase):
     def context(self, split=(0.75, 0.25), inputs=None):
         """Runs whose hull and sail carry `split` of Y' (and of the other components, scaled)."""
         dirs, effective = {}, {}
+        value = {rid: v for sweep in self.rung.sweeps for rid, v in zip(sweep.run_ids, sweep.values)}
         for run in self.rung.runs:
             d = self.dir / "runs" / run.id
             d.mkdir(parents=True, exist_ok=True)
-            y = side_force(run.sweep_value)
+            y = side_force(value[run.id])
             forces = {g: {"body_axes": {"X": -0.001 * s, "Y": y * s, "Z": 0.0, "K": 0.1 * y * s, "M": 0.0,
                                         "N": 0.5 * y * s}} for g, s in zip(("body", "sail"), split)}
-            (d / "run.json").write_text(json.dumps({"forces": forces, "force_span": 1e-7 * (1 + abs(run.sweep_value))}))
+            (d / "run.json").write_text(json.dumps({"forces": forces, "force_span": 1e-7 * (1 + abs(value[run.id]))}))
             dirs[run.id] = d
             effective[run.id] = effective_input(run) if inputs is None else inputs
         return Context(self.rung, dirs, effective)
@@ -110,7 +111,7 @@ class CaptiveSweeps(unittest.TestCase):
                                places=20)
         with self.assertRaises(HarnessError) as cm:
             extract(ctx, {"kind": "sweep_largest", "sweep": "drift", "field": "span"})
-        self.assertIn("no number 'span'", str(cm.exception))
+        self.assertIn("has no field 'span'", str(cm.exception))
 
     def test_refusals_name_what_is_wrong(self):
         ctx = self.context()

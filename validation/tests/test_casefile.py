@@ -134,10 +134,9 @@ class RungFiles(unittest.TestCase):
         rung = load_rung(self.write(GOOD + sweep))
         self.assertEqual([(s.id, s.variable, s.values, s.run_ids) for s in rung.sweeps],
                          [("drift", "flow.drift_angle", (-4.0, 0.0, 2.5), ("drift_m4", "drift_0", "drift_2p5"))])
-        points = [r for r in rung.runs if r.sweep == "drift"]
-        self.assertEqual([(r.id, r.sweep_value, r.max_iterations, r.tiers) for r in points],
-                         [("drift_m4", -4.0, 50, ("quick",)), ("drift_0", 0.0, 50, ("quick",)),
-                          ("drift_2p5", 2.5, 50, ("quick",))])
+        points = [r for r in rung.runs if r.id in rung.sweeps[0].run_ids]
+        self.assertEqual([(r.id, r.max_iterations, r.tiers) for r in points],
+                         [("drift_m4", 50, ("quick",)), ("drift_0", 50, ("quick",)), ("drift_2p5", 50, ("quick",))])
         self.assertEqual(points[0].set, {"grid.configuration": '"bare"', "flow.drift_angle": "-4.0"})
         self.assertIn("sweep[0].values", self.error(GOOD + sweep.replace("[-4, 0, 2.5]", "[]")))
         self.assertIn("sweep[0].values", self.error(GOOD + sweep.replace("[-4, 0, 2.5]", "[1, 1.0]")))
@@ -148,6 +147,23 @@ class RungFiles(unittest.TestCase):
         self.assertIn("unknown key 'sweep[0].value'", self.error(GOOD + sweep + "value = 1\n"))
         self.assertIn("run ids must be unique", self.error(GOOD.replace('id = "a"', 'id = "drift_0"') + sweep))
         self.assertIn("sweep ids must be unique", self.error(GOOD + sweep + sweep.replace("[-4, 0, 2.5]", "[8]")))
+
+    def test_a_sweep_like_another_repeats_its_setup_with_its_own_values_and_added_overrides(self):
+        sweep = ('\n[[sweep]]\nid = "drift"\ninput = "in.toml"\nvariable = "flow.drift_angle"\n'
+                 'values = [-4, 0, 4]\nset = { "grid.coarsen" = 2, "grid.configuration" = "bare" }\n'
+                 'max_iterations = 50\nranks = 2\n')
+        medium = '\n[[sweep]]\nid = "drift_medium"\nlike = "drift"\nvalues = [-2, 2]\nset = { "grid.coarsen" = 1 }\n'
+        rung = load_rung(self.write(GOOD + sweep + medium))
+        self.assertEqual([(s.id, s.variable, s.values) for s in rung.sweeps],
+                         [("drift", "flow.drift_angle", (-4.0, 0.0, 4.0)),
+                          ("drift_medium", "flow.drift_angle", (-2.0, 2.0))])
+        run = next(r for r in rung.runs if r.id == "drift_medium_m2")
+        self.assertEqual((run.set, run.max_iterations, run.ranks, run.input.name),
+                         ({"grid.coarsen": "1", "grid.configuration": '"bare"', "flow.drift_angle": "-2.0"}, 50, 2,
+                          "in.toml"))
+        self.assertIn("sweep[1].like", self.error(GOOD + sweep + medium.replace('"drift"', '"yaw"')))
+        self.assertIn("sweep[0].like", self.error(GOOD + medium + sweep))
+        self.assertIn("sweep[1].set", self.error(GOOD + sweep + medium.replace('"grid.coarsen"', '"flow.drift_angle"')))
 
     def test_misspelled_key_is_named_with_a_suggestion(self):
         msg = self.error(GOOD.replace("tolerance = 1.0", "tolerence = 1.0\ntolerance = 1.0"))
