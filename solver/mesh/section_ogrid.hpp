@@ -1,0 +1,80 @@
+#pragma once
+// An O-grid about a thin section (an appendage's cross-section at one span level) inside
+// a four-sided box, in a 2-D chart (sigma along the chord, w across it), and the
+// quadrilateral grid inside the section (the cap block over a tip). The appendage grids
+// stack one such O-grid per span level (mesh/DESIGN.md, "Appendage boxes": why the
+// appendages get boxes of their own instead of clustering the hull's H-grid).
+//
+// The O's wall-normal lines start along the section's normal (so the first spacing is
+// exactly the wall spacing asked for) and turn over part of their length to the straight
+// line to their box node; the box's nodes are given (they are the surrounding grid's), so
+// the O's clustering stays inside the box. Its ring of section nodes runs from the lower
+// leading-edge junction round the leading edge, along the upper side, round the trailing
+// edge and back along the lower side, matched side by side to the box:
+//   front block: box front (lower corner -> upper)  <-> the leading-edge arc
+//   upper block: box top (front -> back)            <-> the upper side
+//   back block:  box back (upper corner -> lower)   <-> the trailing-edge arc (the sharp
+//                                                        edge at its middle node)
+//   lower block: box bottom (back -> front)         <-> the lower side
+#include <array>
+#include <functional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/types.hpp"
+
+namespace narwhal::ogrid {
+
+using Point = Eigen::Matrix<Real, 2, 1>;
+
+// The section's two sides from the leading edge (u = 0, shared) to the trailing edge
+// (u = 1, shared); u about the chord fraction. A round leading edge (w ~ sqrt(u)) and a
+// sharp trailing edge are what it is made for.
+struct Section {
+  std::function<Point(Real)> upper, lower;
+};
+
+// The box's nodes, each side in the ring's running direction; consecutive sides share
+// their corner node.
+struct Box {
+  std::vector<Point> front, top, back, bottom;
+};
+
+struct Spec {
+  int cells_normal = 32;         // from the section to the box
+  Real first_spacing = 1e-5;     // off the section, along its normal
+  Real outer_spacing = 1e-2;     // along the lines at the box (at most the line's mean spacing)
+  Real leading_edge_arc = 0.03;  // the front block's arc reaches this u on each side
+  Real trailing_edge_arc = 0.9;  // the back block's arc starts at this u on each side
+  Real leading_edge_spacing = 1e-3;   // along the section at the leading edge
+  Real trailing_edge_spacing = 1e-3;  // and at the trailing edge
+  Real layer = 0.05;             // the lines leave along the section's normal for this distance
+  int trailing_edge_fan = 3;     // nodes either side of the sharp edge whose normals fan
+};
+
+struct OGrid {
+  // ring[t][s]: t = 0 on the section, t = cells_normal on the box; s = 0 .. cells_around
+  // (the last node repeats the first: the lower leading-edge junction).
+  std::vector<std::vector<Point>> ring;
+  // Where the blocks start along the ring: front, upper, back, lower, and the end.
+  std::array<int, 5> split{};
+  std::vector<Real> u;  // each section node's u (the ring's t = 0)
+  int cells_around() const { return split[4]; }
+  int cells_normal() const { return static_cast<int>(ring.size()) - 1; }
+};
+
+// The O-grid between `section` and `box` (fails, naming what, when the counts do not
+// allow one: the arcs need an even number of cells, so the edges are nodes).
+OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spec);
+
+// The grid inside the section, inside[a][b]: a = 0 .. cells along the upper side (the
+// lower side must have as many), b = 0 .. cells of the leading-edge arc (the trailing
+// edge's must be as many); its edges are the O's section nodes: b = 0 the lower side,
+// b = max the upper, a = 0 the leading-edge arc, a = max the trailing-edge arc.
+std::vector<std::vector<Point>> section_interior(const OGrid& o);
+
+// Twice the signed area of the quadrilateral a, b, c, d (counter-clockwise positive).
+Real quad_area2(const Point& a, const Point& b, const Point& c, const Point& d);
+
+}  // namespace narwhal::ogrid
