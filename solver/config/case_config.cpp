@@ -91,7 +91,10 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
                           {"cells_stern", &a.cells_stern, "cells from the stern appendages to the tail square"},
                           {"cells_around", &a.cells_around, "cells per 90-degree sector (even)"},
                           {"cells_span", &a.cells_span, "cells from the hull to the appendages' tip level"},
-                          {"cells_outer", &a.cells_outer, "cells from the tip level to the far field"}};
+                          {"cells_outer", &a.cells_outer, "cells from the tip level to the far field"},
+                          {"box_half_width", &a.box_half_width, "sector cells either side of an appendage's plane in its box"},
+                          {"cells_margin", &a.cells_margin, "cells of an appendage's box ahead of and behind its chord"},
+                          {"cells_section", &a.cells_section, "cells from an appendage's section to its box"}};
   for (const Count& c : counts)
     *c.value = r.integer_or(std::string("grid.") + c.key, *c.value, c.what, Range::between(2, kMaxCellsPerDirection));
   if (a.cells_around % 2 != 0)
@@ -121,9 +124,15 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
                                         Range::between(0.0, 0.01 * a.length));
   a.pole_spacing = r.number_or("grid.pole_spacing", a.pole_spacing, "the meridional spacing at nose and tail",
                                Range::between(0.0, 0.01 * a.length));
-  a.sail_crest_slope = r.number_or("grid.sail_crest_slope", a.sail_crest_slope,
-                                   "the slope with which the sail's cap closes (0: the report's tangent crest)",
-                                   Range::between(0.0, 100.0));
+  a.section_layer = r.number_or("grid.section_layer", a.section_layer,
+                                "how far the appendages' O-grid lines leave along the section's normal",
+                                Range::between(0.0, 0.05 * a.length));
+  a.section_edge_spacing = r.number_or("grid.section_edge_spacing", a.section_edge_spacing,
+                                       "the spacing along the appendages' sections at their edges",
+                                       Range::between(0.0, 0.01 * a.length));
+  a.cap_growth = r.number_or("grid.cap_growth", a.cap_growth,
+                             "the height over which the cap blocks widen above the appendages' tips",
+                             Range::between(0.0, a.far_field * a.length));
 }
 
 void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g) {

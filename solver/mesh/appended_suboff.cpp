@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include "core/error.hpp"
+#include "mesh/appendage_box.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/meridian.hpp"
 
@@ -61,7 +63,6 @@ Stations make_stations(const AppendedSuboffSpec& spec, const Meridian& m, Real r
   const Real S = m.length();
   Stations st;
   // The sail's window: stations at x, lines straight up (its sections do not change with height).
-  const suboff::Sail sail(spec.sail_crest_slope);
   const std::vector<Real> x_sail = two_sided_nodes(suboff::Sail::kLeadingEdge, suboff::Sail::kTrailingEdge,
                                                    spec.cells_sail, spec.leading_edge_spacing / ft,
                                                    spec.trailing_edge_spacing / ft);
@@ -69,7 +70,8 @@ Stations make_stations(const AppendedSuboffSpec& spec, const Meridian& m, Real r
   std::vector<WallLine> sail_lines;
   for (const Real x : x_sail) {
     s_sail.push_back(arc_length_at(m, x * ft));
-    sail_lines.push_back({true, 1.0, 0.0, 1.0, (sail.tip(x) - suboff::hull_radius(x)) * ft, 0.0});
+    // The tip level at the top of the sail's uniform section; its cap is the cap block's.
+    sail_lines.push_back({true, 1.0, 0.0, 1.0, (suboff::Sail::kUniformTop - suboff::hull_radius(x)) * ft, 0.0});
   }
   // The stern appendages' window: lines of constant chord fraction xi, x = x_te - c(r) (1 - xi).
   const auto fin = suboff::make_stern_appendage(suboff::SternAppendage::UpperRudder);
@@ -140,77 +142,10 @@ Stations make_stations(const AppendedSuboffSpec& spec, const Meridian& m, Real r
   return st;
 }
 
-// The azimuths within a sector as a blend of four distributions from its j = 0 boundary:
-// uniform, clustered at j = 0, at j = na, or at both (first spacing `first`), weighted
-// bilinearly by how strongly each end clusters. A blend with non-negative weights of
-// increasing sequences increases: no fold, whatever the weights.
-class AzimuthBlend {
- public:
-  AzimuthBlend(int na, Real first) : uniform_(uniform_nodes(0.0, 0.5 * kPi, na)) {
-    const Real quarter = 0.5 * kPi, mean = quarter / na;
-    both_ = two_sided_nodes(0.0, quarter, na, first, first);
-    low_ = two_sided_nodes(0.0, quarter, na, first, mean);
-    high_.resize(low_.size());
-    for (std::size_t j = 0; j < low_.size(); ++j) high_[j] = quarter - low_[low_.size() - 1 - j];
-  }
-  // The azimuth of node j from the sector's j = 0 boundary, clustering c0 at j = 0 and cn
-  // at j = na.
-  Real at(int j, Real c0, Real cn) const {
-    const std::size_t u = static_cast<std::size_t>(j);
-    return (1.0 - c0) * (1.0 - cn) * uniform_[u] + c0 * (1.0 - cn) * low_[u] + (1.0 - c0) * cn * high_[u] +
-           c0 * cn * both_[u];
-  }
-
- private:
-  std::vector<Real> uniform_, both_, low_, high_;
-};
-
 // Distances along a wall line: clustered at the hull and at the tip level (k = cells_span).
 std::vector<Real> line_distances(const AppendedSuboffSpec& spec, Real d_tip) {
   return joined(two_sided_nodes(0.0, d_tip, spec.cells_span, spec.first_spacing, spec.tip_spacing),
                 geometric_nodes(d_tip, spec.far_field * spec.length, spec.cells_outer, spec.tip_spacing));
-}
-
-// Wraps a sector's boundary plane at azimuth phi0 around an appendage: each node of the
-// window turned about the hull axis by the angle that puts the boundary node on the
-// appendage's surface at its own radius (hull nodes stay on the hull), the turn fading
-// with the angular distance from the plane.
-void wrap_appendage(Block& b, int sector, bool boundary_at_j0, const suboff::Appendage& a, int i_first, int i_last,
-                    int k_tip, Real ft) {
-  const int na = b.nj;
-  const int jb = boundary_at_j0 ? 0 : na;
-  const Real turn_sign = boundary_at_j0 ? -1.0 : 1.0;  // into the sector
-  const Real phi0 = (boundary_at_j0 ? sector + 1 : sector) * 0.5 * kPi;
-  for (int i = i_first + 1; i < i_last; ++i)
-    for (int k = 0; k < k_tip; ++k) {
-      const Vec3 on_plane = b.x(i, jb, k);
-      const Real x = on_plane[0] / ft, r = std::hypot(on_plane[1], on_plane[2]) / ft;
-      // The span coordinate s of the surface point at radius r: s^2 + t(x, s)^2 = r^2.
-      Real s = r, t = 0.0;
-      for (int it = 0; it < 60; ++it) {
-        t = a.half_thickness(x, s);
-        const Real next = std::sqrt(std::max(0.0, r * r - t * t));
-        if (std::abs(next - s) < 1e-15 * r) break;
-        s = next;
-      }
-      const Real angle = turn_sign * std::atan2(t, s);
-      if (angle == 0.0) continue;
-      // The turn fades over four times its own angle (at most the sector): the map
-      // phi -> phi + angle w(phi / reach) stays monotone (|w'| <= 1.5), and where the
-      // thickness falls to zero (edges, the tip's crest) only the nodes near the plane turn,
-      // so the nodes further out do not shear against the untouched ones beyond the edge.
-      const Real reach = std::min(0.5 * kPi, 4.0 * std::abs(angle));
-      for (int j = 0; j <= na; ++j) {
-        Vec3& p = b.x(i, j, k);
-        const Real apart = std::abs(std::remainder(std::atan2(p[2], p[1]) - phi0, 2.0 * kPi));
-        const Real w = 1.0 - smoothstep(apart / reach);
-        if (w == 0.0) continue;
-        const Real c = std::cos(angle * w), sn = std::sin(angle * w);
-        const Real y = p[1], z = p[2];
-        p[1] = c * y - sn * z;
-        p[2] = sn * y + c * z;
-      }
-    }
 }
 
 void add_hull_patches(Block& b) {
@@ -235,7 +170,6 @@ struct Layout {
   Stations st;
   int nl, nk;
   Azimuth az;
-  AzimuthBlend azimuths;
   Extrusion extrusion;
   std::vector<std::vector<Real>> distances;  // per station, along its wall line
 
@@ -248,18 +182,24 @@ struct Layout {
     if (f > 1.0 - reach) return -std::pow(1.0 - (1.0 - f) / reach, 2);
     return 0.0;
   }
-  // How strongly the azimuths cluster at boundary q at station i, level k: the window's
-  // weight, fading above the tip level over three spans (over one, the grid coarsened
-  // twice, a multigrid level, had folded cells above the sail's tip). The sail stands at
-  // 270 degrees only.
-  Real clustering(int q, std::size_t i, int k) const {
-    const WallLine& w = st.lines[i];
-    if (w.near_sail && q != 3) return 0.0;
-    const Real above_tip = distances[i][static_cast<std::size_t>(k)] - w.d_tip;
-    return w.fin_weight * (1.0 - smoothstep(above_tip / (3.0 * w.d_tip)));
-  }
   Vec3 node(const SurfacePoint& p, std::size_t i, int k) const {
     return line_node(extrusion, p, st.lines[i], distances[i][static_cast<std::size_t>(k)]);
+  }
+  // The wall lines as a continuous family between the stations (each line's parameters
+  // and distances interpolated in its foot's arc length): (x, r) of the line from `arc`
+  // at level k, the station's node at a station and a hull point at level 0. The
+  // appendages' boxes build their O-grids on these levels.
+  std::array<Real, 2> level(Real arc, int k) const {
+    const auto it = std::upper_bound(st.s.begin(), st.s.end(), arc);
+    const std::size_t i = std::clamp<std::size_t>(static_cast<std::size_t>(it - st.s.begin()), 1, st.s.size() - 1) - 1;
+    const Real f = (arc - st.s[i]) / (st.s[i + 1] - st.s[i]);
+    const WallLine &a = st.lines[i], &b = st.lines[i + 1];
+    auto mix = [f](Real u, Real v) { return f == 0.0 ? u : (1.0 - f) * u + f * v; };
+    const WallLine w{a.near_sail, mix(a.fin_weight, b.fin_weight), mix(a.ux, b.ux), mix(a.ur, b.ur),
+                     mix(a.d_tip, b.d_tip), mix(a.release, b.release)};
+    const std::size_t uk = static_cast<std::size_t>(k);
+    const Vec3 x = line_node(extrusion, surface(meridian, arc, {1.0, 0.0}), w, mix(distances[i][uk], distances[i + 1][uk]));
+    return {x[0], std::hypot(x[1], x[2])};
   }
 };
 
@@ -271,10 +211,7 @@ BodyGridSpec far_field_extrusion(const AppendedSuboffSpec& spec) {
   return es;
 }
 
-// Azimuths: uniform (as the bare grids) at the poles and away from the appendages;
-// clustered at a sector boundary where an appendage may stand there (whatever the
-// configuration, so that all share the grid), with the first spacing fin_spacing at the
-// largest radius an appendage reaches (the sail's crest).
+// Azimuths uniform, as the bare grids': the appendages' clustering is their boxes'.
 Layout::Layout(const AppendedSuboffSpec& s)
     : spec(s),
       ft(s.length / suboff::kOverallLength),
@@ -285,7 +222,6 @@ Layout::Layout(const AppendedSuboffSpec& s)
       nl(static_cast<int>(st.s.size()) - 1),
       nk(s.cells_span + s.cells_outer),
       az{s.cells_around},
-      azimuths(s.cells_around, s.fin_spacing / (suboff::Sail(s.sail_crest_slope).tip(3.45) * ft)),
       extrusion(far_field_extrusion(s), meridian, s.length) {
   for (std::size_t i = 0; i < st.s.size(); ++i)
     if (pole_shift(st.s[i]) != 0.0 && st.lines[i].fin_weight != 0.0)
@@ -318,13 +254,9 @@ Block make_sector_block(const Layout& lay, int sector) {
     const SurfacePoint p = surface(lay.meridian, arc, {1.0, 0.0});
     for (int k = 0; k <= lay.nk; ++k) {
       const Vec3 xr = lay.node(p, ui, k);
-      const Real at_j0 = lay.clustering((sector + 1) % 4, ui, k), at_jn = lay.clustering(sector, ui, k);
       for (int j = 0; j <= na; ++j) {
-        // j = 0 and j = na are the boundaries: exact axes, shared bit for bit with the neighbour.
-        const Real phi = (sector + 1) * 0.5 * kPi - lay.azimuths.at(j, at_j0, at_jn);
-        const auto [c, sn] = j == 0    ? lay.az.unit((sector + 1) * na)
-                             : j == na ? lay.az.unit(sector * na)
-                                       : std::array<Real, 2>{std::cos(phi), std::sin(phi)};
+        // Exact axes at the boundaries: shared bit for bit with the neighbour.
+        const auto [c, sn] = lay.az.unit((sector + 1) * na - j);
         b.x(i, j, k) = Vec3(xr[0], xr[1] * c, xr[1] * sn);
       }
     }
@@ -333,30 +265,70 @@ Block make_sector_block(const Layout& lay, int sector) {
   return b;
 }
 
-// Each appendage in the boundary plane its span direction points to: the plane wrapped
-// round it in the two sectors that share the plane, and its sides as wall patches.
-void attach_appendages(std::vector<Block>& sectors, const Layout& lay, const suboff::Configuration& config) {
-  const int na = lay.spec.cells_around;
-  for (const auto& a : config.appendages) {
-    const Vec3 span = suboff::to_grid_axes(a->span_direction);
-    const Real phi0 = std::atan2(span[2], span[1]);
-    const int q = (static_cast<int>(std::lround(phi0 / (0.5 * kPi))) + 4) % 4;
-    const bool is_sail = a->name() == "sail";
-    const int i_first = is_sail ? lay.st.sail_first : lay.st.fin_first;
-    const int i_last = is_sail ? lay.st.sail_last : lay.st.fin_last;
-    // Sector q has the boundary at j = na, sector q - 1 at j = 0.
-    for (const int sector : {q, (q + 3) % 4}) {
-      const bool at_j0 = sector != q;
-      Block& b = sectors[static_cast<std::size_t>(sector)];
-      wrap_appendage(b, sector, at_j0, *a, i_first, i_last, lay.spec.cells_span, lay.ft);
-      Patch p;
-      p.side = at_j0 ? 2 : 3;
-      p.lo = {i_first, 0, 0};
-      p.hi = {i_last, na, lay.spec.cells_span};
-      p.label = a->name();
-      b.patches.push_back(p);
-    }
+// The plane an appendage stands in: the sector boundary at q * 90 degrees.
+int plane_of(const suboff::Appendage& a) {
+  const Vec3 span = suboff::to_grid_axes(a.span_direction);
+  return (static_cast<int>(std::lround(std::atan2(span[2], span[1]) / (0.5 * kPi))) + 4) % 4;
+}
+
+// The stations an appendage's box spans: its chord's window and cells_margin either side.
+std::array<int, 2> box_stations(const Layout& lay, bool sail) {
+  const int m = lay.spec.cells_margin;
+  return sail ? std::array<int, 2>{lay.st.sail_first - m, lay.st.sail_last + m}
+              : std::array<int, 2>{lay.st.fin_first - m, lay.st.fin_last + m};
+}
+
+// An appendage's box: box_half_width sector cells either side of its plane over its
+// stations, all levels (mesh/appendage_box.hpp). Sector q has the plane at j = na (its
+// columns na - w .. na are the +w side), sector q - 1 at j = 0.
+std::vector<Block> make_box(const std::vector<Block>& sectors, const Layout& lay, const suboff::Appendage& a) {
+  const int na = lay.spec.cells_around, w = lay.spec.box_half_width, q = plane_of(a);
+  const Block& plus = sectors[static_cast<std::size_t>(q)];
+  const Block& minus = sectors[static_cast<std::size_t>((q + 3) % 4)];
+  const auto [first, last] = box_stations(lay, a.name() == "sail");
+  AppendageBox box;
+  box.appendage = &a;
+  box.feet = lay.ft;
+  box.plane = q * 0.5 * kPi;
+  box.outer_angle = 0.5 * kPi / na;
+  for (int k = 0; k <= lay.nk; ++k) {
+    std::vector<Vec3> front, top, back, bottom;
+    for (int j = w; j >= 0; --j) front.push_back(minus.x(first, j, k));
+    for (int j = na - 1; j >= na - w; --j) front.push_back(plus.x(first, j, k));
+    for (int i = first; i <= last; ++i) top.push_back(plus.x(i, na - w, k));
+    for (int j = na - w; j <= na; ++j) back.push_back(plus.x(last, j, k));
+    for (int j = 1; j <= w; ++j) back.push_back(minus.x(last, j, k));
+    for (int i = first; i <= last; ++i) bottom.push_back(minus.x(i, w, k));
+    box.front.push_back(std::move(front));
+    box.top.push_back(std::move(top));
+    box.back.push_back(std::move(back));
+    box.bottom.push_back(std::move(bottom));
   }
+  box.stations.assign(lay.st.s.begin() + first, lay.st.s.begin() + last + 1);
+  box.level = [&lay](Real arc, int k) { return lay.level(arc, k); };
+  box.tip_level = lay.spec.cells_span;
+  box.section_grid.cells_normal = lay.spec.cells_section;
+  box.section_grid.first_spacing = lay.spec.fin_spacing;
+  box.section_grid.layer = lay.spec.section_layer;
+  box.section_grid.leading_edge_spacing = lay.spec.section_edge_spacing;
+  box.section_grid.trailing_edge_spacing = lay.spec.section_edge_spacing;
+  box.cap_growth = lay.spec.cap_growth;
+  if (a.name() == "sail") {
+    // The report's cap over the uniform section (§3): 2 (y - top) = sqrt(Z1^2 - z^2).
+    const Real ft = lay.ft;
+    box.crest = [ft](Real x, Real w_off) {
+      const Real z1 = suboff::Sail::section_half_thickness(x / ft), z = w_off / ft;
+      return std::abs(z) >= z1 ? 0.0 : 0.5 * std::sqrt(z1 * z1 - z * z) * ft;
+    };
+  }
+  // Short tags for the blocks' names (CGNS zone names have at most 32 characters).
+  static const std::map<std::string, std::string> tags{{"sail", "sail"},
+                                                       {"upper_rudder", "rud_up"},
+                                                       {"lower_rudder", "rud_lo"},
+                                                       {"starboard_stern_plane", "plane_sb"},
+                                                       {"port_stern_plane", "plane_pt"}};
+  const auto tag = tags.find(a.name());
+  return make_appendage_box(box, a.name(), tag == tags.end() ? a.name() : tag->second);
 }
 
 // The pole squares, as in body_of_revolution.cpp, with their meridians' lines.
@@ -368,22 +340,40 @@ Block make_pole_block(const Layout& lay, bool tail) {
   return b;
 }
 
-// Cut the blocks where the appendages' faces end, so that every face is either a whole
-// wall or a whole interface.
-Grid cut_at_appendage_edges(const std::vector<Block>& blocks, const Layout& lay) {
+// Cut the sectors at the boxes' edges (along the hull and across each sector, so that
+// every face is whole) and at the tip level, the squares with them, and leave out the
+// pieces a box replaces.
+Grid cut_around_boxes(const std::vector<Block>& blocks, const Layout& lay, const suboff::Configuration& config) {
   static constexpr const char* stretch[] = {"bow", "sail", "middle", "fin", "stern"};
-  const std::vector<int> i_cuts{0, lay.st.sail_first, lay.st.sail_last, lay.st.fin_first, lay.st.fin_last, lay.nl};
+  static constexpr const char* across[] = {"low", "mid", "high"};
+  const int na = lay.spec.cells_around, w = lay.spec.box_half_width;
+  const auto sail = box_stations(lay, true), fin = box_stations(lay, false);
+  const std::vector<int> i_cuts{0, sail[0], sail[1], fin[0], fin[1], lay.nl};
+  const std::vector<int> j_cuts{0, w, na - w, na};
   const std::vector<int> k_cuts{0, lay.spec.cells_span, lay.nk};
+  auto boxed = [&](int sector, std::size_t a, std::size_t c) {
+    for (const auto& ap : config.appendages) {
+      const int q = plane_of(*ap);
+      const std::size_t in_stretch = ap->name() == "sail" ? 1 : 3;
+      if (a == in_stretch && ((sector == q && c == 2) || (sector == (q + 3) % 4 && c == 0))) return true;
+    }
+    return false;
+  };
   Grid cut;
   for (const Block& b : blocks) {
     const bool square = b.name == "nose" || b.name == "tail";
-    const std::vector<int> ic = square ? std::vector<int>{0, b.ni} : i_cuts;
+    const std::vector<int> ic = square ? j_cuts : i_cuts;
+    const int sector = square ? -1 : std::stoi(b.name.substr(b.name.find('_') + 1)) / 90;
     for (std::size_t a = 0; a + 1 < ic.size(); ++a)
-      for (std::size_t c = 0; c + 1 < k_cuts.size(); ++c) {
-        const std::string name = square ? fmt::format("{}_{}", b.name, c == 0 ? "inner" : "outer")
-                                        : fmt::format("{}_{}_{}", b.name, stretch[a], c == 0 ? "inner" : "outer");
-        cut.blocks.push_back(extract_block(b, name, {ic[a], 0, k_cuts[c]}, {ic[a + 1], b.nj, k_cuts[c + 1]}));
-      }
+      for (std::size_t c = 0; c + 1 < j_cuts.size(); ++c)
+        for (std::size_t e = 0; e + 1 < k_cuts.size(); ++e) {
+          if (!square && boxed(sector, a, c)) continue;
+          const std::string name = square ? fmt::format("{}_{}{}_{}", b.name, a, c, e == 0 ? "inner" : "outer")
+                                          : fmt::format("{}_{}_{}_{}", b.name, stretch[a], across[c],
+                                                        e == 0 ? "inner" : "outer");
+          cut.blocks.push_back(
+              extract_block(b, name, {ic[a], j_cuts[c], k_cuts[e]}, {ic[a + 1], j_cuts[c + 1], k_cuts[e + 1]}));
+        }
   }
   return cut;
 }
@@ -407,14 +397,18 @@ Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
     fail("appended SUBOFF grid: configuration '{}' is not meshed (expected one of {})", spec.configuration,
          fmt::join(meshed, ", "));
   const suboff::Configuration config =
-      suboff::make_configuration(spec.configuration, spec.deflections, spec.sail_crest_slope);
+      suboff::make_configuration(spec.configuration, spec.deflections);
 
   const Layout layout(spec);
   std::vector<Block> blocks;
   for (int sector = 0; sector < 4; ++sector) blocks.push_back(make_sector_block(layout, sector));
-  attach_appendages(blocks, layout, config);
+  std::vector<Block> boxes;
+  for (const auto& a : config.appendages)
+    for (Block& b : make_box(blocks, layout, *a)) boxes.push_back(std::move(b));
   for (const bool tail : {false, true}) blocks.push_back(make_pole_block(layout, tail));
-  return cut_at_appendage_edges(blocks, layout);  // the free faces are connected by finalize_grid (mesh/setup.hpp)
+  Grid g = cut_around_boxes(blocks, layout, config);
+  for (Block& b : boxes) g.blocks.push_back(std::move(b));
+  return g;  // the free faces are connected by finalize_grid (mesh/setup.hpp)
 }
 
 }  // namespace narwhal

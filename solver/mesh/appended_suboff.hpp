@@ -1,24 +1,23 @@
 #pragma once
 // Grids around the appended SUBOFF (mesh/suboff_geometry.hpp): the body-of-revolution
 // topology (four sectors between two pole squares, body_of_revolution.hpp) with the sail
-// and the stern appendages standing in the sectors' boundary planes (mesh/DESIGN.md,
-// "Appended SUBOFF", says why and what it costs).
+// and the stern appendages standing in the sectors' boundary planes, each in a box of its
+// own (mesh/appendage_box.hpp; mesh/DESIGN.md, "Appendage boxes", says why).
 //
-// - Along the hull, two windows of grid lines follow the appendages: over the sail's
-//   chord the wall lines run straight up (the sail's sections are constant in x); over
-//   the stern appendages' chord they run along lines of constant chord fraction, so that
-//   each appendage's planform is exactly a rectangle of index space in its boundary plane
-//   (i from its leading to its trailing edge, k from the hull to its tip). All
-//   configurations share these lines: `bare` and `sail_stern4` differ only where the
-//   appendages are, which keeps the appendage increments free of grid changes elsewhere.
-// - One tip level k_tip: the wall lines are split there at every station (at the sail's
-//   crest over the sail, at the stern appendages' tip over theirs, blended between).
-// - An appendage is made by turning the nodes near its plane about the hull axis, each
-//   boundary-plane node to the appendage's surface at its own radius (so that the hull's
-//   nodes stay on the hull), the turn fading over the sector's 90 degrees. A deflected
-//   control surface would be made by the same turn (not yet: deflections are refused).
-// - The blocks are then cut at the windows' ends and at k_tip, so that each appendage
-//   side is a whole block face: the solver's interfaces stay whole-face.
+// - Along the hull, two windows of wall lines follow the appendages: over the sail's
+//   chord they run straight up (its sections are constant in x); over the stern
+//   appendages' chord along lines of constant chord fraction. One tip level k_tip: the
+//   sail's uniform section's top over the sail, R_max over the stern appendages, blended
+//   between. The wall lines are the boxes' levels.
+// - Azimuths are uniform. A box spans box_half_width sector cells either side of its
+//   plane and cells_margin stations ahead of and behind its window; inside it an O-grid
+//   about the appendage's section at every level carries the appendage's clustering, so
+//   that it stays in the box.
+// - The sectors are cut at the boxes' edges along the hull and across (the squares with
+//   them) and at k_tip: every face is whole. All configurations share this grid outside
+//   the boxes (a configuration without an appendage keeps the hull grid's pieces in its
+//   box), which keeps the appendage increments free of grid changes elsewhere.
+// - Deflected control surfaces are refused (to come: the O regenerated in its box).
 //
 // Coordinates: grid axes (motion/grid_axes.hpp): nose at x = 0, tail at x = length,
 // y to port, z down (the sail at -z). Patch labels: "body" (the hull), "farfield", and
@@ -48,19 +47,25 @@ struct AppendedSuboffSpec {
   Real first_spacing = 2e-6;   // off the hull, grid units
   Real fin_spacing = 2e-6;     // off the appendages (at the sail's crest, the largest radius)
   Real tip_spacing = 1e-3;     // along the wall lines at the tip level
-  // Chordwise at the appendages' leading and trailing edges. The wall lines leave a blunt
-  // leading edge sideways (an H-grid), so the first cell behind it is sheared by about
-  // sqrt(2 r_le / spacing) (r_le the edge's radius: sail 0.0053 L, stern appendages 0.0018 L):
-  // 1.5e-3 L keeps that under 3 (with 2e-4 L the SST runs with the sail diverged).
-  Real leading_edge_spacing = 1.5e-3;
-  Real trailing_edge_spacing = 2e-4;
+  // The stations' spacing at the appendages' leading and trailing edges. The boxes' O-grids
+  // resolve the edges; the stations only carry the boxes' sides, which want about the
+  // chord's mean spacing (and the margins ahead and behind a fair distance).
+  Real leading_edge_spacing = 1e-3;
+  Real trailing_edge_spacing = 1e-3;
   // Along the meridians at nose and tail. The pole squares are cells_around x pole_spacing
   // / sqrt(2) across: the SUBOFF runs need them no larger than about 0.005 L (mesh/DESIGN.md).
   Real pole_spacing = 2.25e-4;
   Real far_field = 15.0;       // in body lengths
-  // The sail's cap closes with this slope instead of tangentially (suboff::Sail): the
-  // cells at its crest are sheared by about this ratio.
-  Real sail_crest_slope = 4.0;
+  // The appendages' boxes (mesh/appendage_box.hpp): sector cells either side of the
+  // plane, stations ahead of and behind the chord, O cells from the section to the box,
+  // how far the O's lines leave along the section's normal, the spacing along the section
+  // at its edges, and the height over which the cap block widens above the tip.
+  int box_half_width = 8;
+  int cells_margin = 16;
+  int cells_section = 32;
+  Real section_layer = 2e-3;
+  Real section_edge_spacing = 5e-5;
+  Real cap_growth = 0.05;
 };
 
 // The configurations these grids mesh: suboff::configuration_names() but `full` (its sail

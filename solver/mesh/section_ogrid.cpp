@@ -18,7 +18,7 @@ class Side {
  public:
   explicit Side(std::function<Point(Real)> f) : f_(std::move(f)) {
     // u = v^2 resolves the round leading edge, where w grows as sqrt(u).
-    constexpr int n = 4000;
+    constexpr int n = 2000;
     u_.resize(n + 1);
     arc_.resize(n + 1);
     Point last = f_(0.0);
@@ -52,6 +52,15 @@ class Side {
   std::function<Point(Real)> f_;
   std::vector<Real> u_, arc_;
 };
+
+// A two-sided distribution whose end spacings are reduced alike where they would not fit
+// (a short arc in few cells: coarse grids).
+std::vector<Real> fitted_nodes(Real a, Real b, int n, Real ds_a, Real ds_b) {
+  if (n == 2) return {a, a + (b - a) * ds_a / (ds_a + ds_b), b};  // one free node: split as the spacings
+  const Real room = 0.8 * (b - a) / n, mean = std::sqrt(ds_a * ds_b);
+  const Real f = mean < room ? 1.0 : room / mean;
+  return two_sided_nodes(a, b, n, f * ds_a, f * ds_b);
+}
 
 struct SectionNode {
   Point x, normal;
@@ -114,12 +123,12 @@ OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spe
   const Real le = spec.leading_edge_spacing, te = spec.trailing_edge_spacing;
 
   std::vector<SectionNode> nodes;
-  append(nodes, lo, false, two_sided_nodes(0.0, lo_a, hf, le, da_lo), true, false);  // junction -> LE
-  append(nodes, up, true, two_sided_nodes(0.0, up_a, hf, le, da_up), false, true);   // LE -> junction
-  append(nodes, up, true, two_sided_nodes(up_a, up_b, n_upper, da_up, db_up), false, true);
-  append(nodes, up, true, two_sided_nodes(up_b, up_end, hb, db_up, te), false, true);  // -> TE
-  append(nodes, lo, false, two_sided_nodes(lo_b, lo_end, hb, db_lo, te), true, true);  // TE -> junction
-  append(nodes, lo, false, two_sided_nodes(lo_a, lo_b, n_lower, da_lo, db_lo), true, true);
+  append(nodes, lo, false, fitted_nodes(0.0, lo_a, hf, le, da_lo), true, false);  // junction -> LE
+  append(nodes, up, true, fitted_nodes(0.0, up_a, hf, le, da_up), false, true);   // LE -> junction
+  append(nodes, up, true, fitted_nodes(up_a, up_b, n_upper, da_up, db_up), false, true);
+  append(nodes, up, true, fitted_nodes(up_b, up_end, hb, db_up, te), false, true);  // -> TE
+  append(nodes, lo, false, fitted_nodes(lo_b, lo_end, hb, db_lo, te), true, true);  // TE -> junction
+  append(nodes, lo, false, fitted_nodes(lo_a, lo_b, n_lower, da_lo, db_lo), true, true);
   const int around = m_front + n_upper + m_back + n_lower;
   if (static_cast<int>(nodes.size()) != around + 1) fail("section O-grid: internal: {} ring nodes", nodes.size());
   // The edges' normals bisect the two sides' tangents (the leading edge's ahead of it,
@@ -148,21 +157,40 @@ OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spe
     const Point side = nodes[static_cast<std::size_t>(te_node + (k < 0 ? -fan - 1 : fan + 1))].normal;
     normal[at] = ((1.0 - f) * nodes[static_cast<std::size_t>(te_node)].normal + f * side).normalized();
   }
+  // The layer holds half the cells: with large first spacings (far above a tip) it
+  // thickens to keep them growing.
+  const int in_layer = nn / 2;
+  const Real common_layer = std::max(spec.layer, 2.0 * in_layer * spec.first_spacing);
   for (int s = 0; s < around; ++s) {
     const std::size_t us = static_cast<std::size_t>(s);
     const SectionNode& p = nodes[us];
     const Point q = outer[us];
-    const Point turn_at = p.x + spec.layer * normal[us];
-    const Real rest = (q - turn_at).norm(), length = spec.layer + rest;
-    if (!(rest > 0.0) || !(length > nn * spec.first_spacing))
-      fail("section O-grid: line {} from the section to the box is too short ({:.3g}) for its {} cells and the "
-           "layer {:.3g}",
-           s, length, nn, spec.layer);
-    const auto d = two_sided_nodes(0.0, length, nn, spec.first_spacing, std::min(spec.outer_spacing, length / nn));
+    // A line shorter than twice the layer (a box side close to an edge) leaves along the
+    // normal for half its length only.
+    const Real layer = std::min(common_layer, 0.5 * (q - p.x).norm());
+    const Point turn_at = p.x + layer * normal[us];
+    const Real rest = (q - turn_at).norm(), length = layer + rest;
+    if (!(rest > 0.0) || !(length > 2.0 * nn * spec.first_spacing))
+      fail("section O-grid: line {} from the section to the box is too short ({:.3g}) for {} cells from {:.3g}", s,
+           length, nn, spec.first_spacing);
+    // Half the cells in the layer, growing geometrically alike on every line (so the rings
+    // there are the section's offset curves), half from the layer to the box, continuing
+    // the growth.
+    std::vector<Real> d;
+    if (layer == common_layer && in_layer >= 2) {
+      d = geometric_nodes(0.0, layer, in_layer, spec.first_spacing);
+      const std::size_t e = static_cast<std::size_t>(in_layer);
+      const Real growth = (d[e] - d[e - 1]) / (d[e - 1] - d[e - 2]);
+      const auto beyond = fitted_nodes(layer, length, nn - in_layer, growth * (d[e] - d[e - 1]),
+                                       std::min(spec.outer_spacing, rest / (nn - in_layer)));
+      d.insert(d.end(), beyond.begin() + 1, beyond.end());
+    } else {
+      d = two_sided_nodes(0.0, length, nn, spec.first_spacing, std::min(spec.outer_spacing, length / nn));
+    }
     for (int t = 0; t <= nn; ++t) {
       const Real dt = d[static_cast<std::size_t>(t)];
       o.ring[static_cast<std::size_t>(t)][us] =
-          t == nn ? q : dt <= spec.layer ? Point(p.x + dt * normal[us]) : Point(turn_at + (dt - spec.layer) / rest * (q - turn_at));
+          t == nn ? q : dt <= layer ? Point(p.x + dt * normal[us]) : Point(turn_at + (dt - layer) / rest * (q - turn_at));
     }
     o.u.push_back(p.u);
   }
@@ -171,43 +199,92 @@ OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spe
   return o;
 }
 
-std::vector<std::vector<Point>> section_interior(const OGrid& o) {
+SectionCap section_cap(const OGrid& o, const Section& section, int ring_cells) {
   const int m_front = o.split[1] - o.split[0], n_upper = o.split[2] - o.split[1];
   const int m_back = o.split[3] - o.split[2], n_lower = o.split[4] - o.split[3];
   if (n_upper != n_lower || m_front != m_back)
-    fail("section interior: needs as many cells on the lower side as on the upper ({} and {}) and round the trailing "
+    fail("section cap: needs as many cells on the lower side as on the upper ({} and {}) and round the trailing "
          "edge as round the leading edge ({} and {})",
          n_lower, n_upper, m_back, m_front);
-  const auto& ring = o.ring.front();
-  const int na = n_upper, nb = m_front, S = o.split[4];
-  auto lower = [&](int a) { return ring[static_cast<std::size_t>(S - a)]; };
-  auto upper = [&](int a) { return ring[static_cast<std::size_t>(o.split[1] + a)]; };
-  auto front = [&](int b) { return ring[static_cast<std::size_t>(b)]; };
-  auto back = [&](int b) { return ring[static_cast<std::size_t>(o.split[3] - b)]; };
-  // Arc-length fractions along each edge, averaged over the opposite pair: transfinite
-  // interpolation in them keeps the interior lines spaced as the edges' nodes.
+  if (ring_cells < 1) fail("section cap: the ring needs a cell or more");
+  const auto& wall = o.ring.front();
+  const int S = o.split[4];
+  // The core's boundary, node for node with the section's: the sides at 3/4 of the way
+  // from the lower side to the upper (and 1/4) at the same u; front and back straight
+  // between the corners, spaced as the section's arcs.
+  auto inner_side = [&](Real u, bool upper) {
+    const Point a = section.upper(u), b = section.lower(u);
+    return upper ? Point(0.75 * a + 0.25 * b) : Point(0.25 * a + 0.75 * b);
+  };
+  // The core's corners lie behind the front junctions and ahead of the back ones (u from
+  // [ua, ub] mapped onto [2 ua, ub - (1 - ub) / 3]): at the junctions themselves the ring's
+  // corner lines would run along the core's straight front and back, a straight angle; and
+  // with the back ahead of every node of the trailing edge's arc, all their lines run
+  // forward and none crosses another (behind the junction they crossed).
+  const Real ua = o.u[static_cast<std::size_t>(o.split[1])], ub = o.u[static_cast<std::size_t>(o.split[2])];
+  const Real ca = 2.0 * ua, cb = ub - (1.0 - ub) / 3.0;
+  auto core_u = [&](Real u) { return ca + (u - ua) / (ub - ua) * (cb - ca); };
+  const Point front_lower = inner_side(ca, false), front_upper = inner_side(ca, true);
+  const Point back_upper = inner_side(cb, true), back_lower = inner_side(cb, false);
+  std::vector<Point> boundary(static_cast<std::size_t>(S + 1));
+  auto straight = [&](int s0, int cells, const Point& from, const Point& to) {
+    Real total = 0.0;
+    for (int q = 0; q < cells; ++q)
+      total += (wall[static_cast<std::size_t>(s0 + q + 1)] - wall[static_cast<std::size_t>(s0 + q)]).norm();
+    Real run = 0.0;
+    for (int q = 0; q <= cells; ++q) {
+      if (q > 0) run += (wall[static_cast<std::size_t>(s0 + q)] - wall[static_cast<std::size_t>(s0 + q - 1)]).norm();
+      boundary[static_cast<std::size_t>(s0 + q)] = from + (run / total) * (to - from);
+    }
+  };
+  straight(o.split[0], m_front, front_lower, front_upper);
+  for (int s = o.split[1]; s <= o.split[2]; ++s)
+    boundary[static_cast<std::size_t>(s)] = inner_side(core_u(o.u[static_cast<std::size_t>(s)]), true);
+  straight(o.split[2], m_back, back_upper, back_lower);
+  for (int s = o.split[3]; s <= S; ++s)
+    boundary[static_cast<std::size_t>(s)] = inner_side(core_u(o.u[static_cast<std::size_t>(s)]), false);
+  boundary[static_cast<std::size_t>(o.split[1])] = front_upper;
+  boundary[static_cast<std::size_t>(o.split[2])] = back_upper;
+  boundary[static_cast<std::size_t>(o.split[3])] = back_lower;
+  boundary[0] = boundary[static_cast<std::size_t>(S)] = front_lower;
+
+  SectionCap cap;
+  cap.ring.assign(static_cast<std::size_t>(ring_cells + 1), std::vector<Point>(static_cast<std::size_t>(S + 1)));
+  for (int t = 0; t <= ring_cells; ++t)
+    for (int s = 0; s <= S; ++s) {
+      const std::size_t us = static_cast<std::size_t>(s);
+      const Real f = static_cast<Real>(t) / ring_cells;
+      cap.ring[static_cast<std::size_t>(t)][us] = t == 0 ? wall[us] : t == ring_cells ? boundary[us] : Point((1.0 - f) * wall[us] + f * boundary[us]);
+    }
+  // The core: transfinite interpolation between its four sides, in their arc-length fractions.
+  const int na = n_upper, nb = m_front;
+  auto lower = [&](int a) { return boundary[static_cast<std::size_t>(S - a)]; };
+  auto upper = [&](int a) { return boundary[static_cast<std::size_t>(o.split[1] + a)]; };
+  auto front = [&](int b) { return boundary[static_cast<std::size_t>(b)]; };
+  auto back = [&](int b) { return boundary[static_cast<std::size_t>(o.split[3] - b)]; };
   auto fractions = [](auto edge, int n) {
     std::vector<Real> f(static_cast<std::size_t>(n + 1), 0.0);
-    for (int k = 1; k <= n; ++k) f[static_cast<std::size_t>(k)] = f[static_cast<std::size_t>(k - 1)] + (edge(k) - edge(k - 1)).norm();
+    for (int k = 1; k <= n; ++k)
+      f[static_cast<std::size_t>(k)] = f[static_cast<std::size_t>(k - 1)] + (edge(k) - edge(k - 1)).norm();
     for (auto& v : f) v /= f.back();
     return f;
   };
   const auto fl = fractions(lower, na), fu = fractions(upper, na), ff = fractions(front, nb), fb = fractions(back, nb);
-  std::vector<std::vector<Point>> x(static_cast<std::size_t>(na + 1), std::vector<Point>(static_cast<std::size_t>(nb + 1)));
+  cap.core.assign(static_cast<std::size_t>(na + 1), std::vector<Point>(static_cast<std::size_t>(nb + 1)));
   const Point c00 = lower(0), c10 = lower(na), c01 = upper(0), c11 = upper(na);
   for (int a = 0; a <= na; ++a)
     for (int b = 0; b <= nb; ++b) {
-      const std::size_t ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
-      const Real al = 0.5 * (fl[ua] + fu[ua]), be = 0.5 * (ff[ub] + fb[ub]);
+      const std::size_t ua_ = static_cast<std::size_t>(a), ub_ = static_cast<std::size_t>(b);
+      const Real al = 0.5 * (fl[ua_] + fu[ua_]), be = 0.5 * (ff[ub_] + fb[ub_]);
       Point p = (1.0 - al) * front(b) + al * back(b) + (1.0 - be) * lower(a) + be * upper(a) -
                 ((1.0 - al) * (1.0 - be) * c00 + al * (1.0 - be) * c10 + (1.0 - al) * be * c01 + al * be * c11);
       if (a == 0) p = front(b);
       if (a == na) p = back(b);
       if (b == 0) p = lower(a);
       if (b == nb) p = upper(a);
-      x[ua][ub] = p;
+      cap.core[ua_][ub_] = p;
     }
-  return x;
+  return cap;
 }
 
 }  // namespace narwhal::ogrid

@@ -68,11 +68,19 @@ struct OGrid {
 // allow one: the arcs need an even number of cells, so the edges are nodes).
 OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spec);
 
-// The grid inside the section, inside[a][b]: a = 0 .. cells along the upper side (the
-// lower side must have as many), b = 0 .. cells of the leading-edge arc (the trailing
-// edge's must be as many); its edges are the O's section nodes: b = 0 the lower side,
-// b = max the upper, a = 0 the leading-edge arc, a = max the trailing-edge arc.
-std::vector<std::vector<Point>> section_interior(const OGrid& o);
+// The grid inside the section (the cap over a tip): a ring of `ring_cells` cells inward
+// from the section's nodes, as the O's ring outward (ring[t][s], t = 0 the section's
+// nodes, s as the O's), and a core within it, core[a][b]: a = 0 .. cells along the upper
+// side (the lower side must have as many), b = 0 .. cells round the leading edge (the
+// trailing edge's must be as many), b = 0 the lower side. The core's corners are real
+// corners (its front and back straight across the section where the O's arcs end, its
+// sides halfway between the section's sides and its mean line); a single quadrilateral
+// with its corners on the smooth outline has a straight angle at each, which folds.
+struct SectionCap {
+  std::vector<std::vector<Point>> ring;
+  std::vector<std::vector<Point>> core;
+};
+SectionCap section_cap(const OGrid& o, const Section& section, int ring_cells);
 
 // Twice the signed area of the quadrilateral a, b, c, d (counter-clockwise positive).
 Real quad_area2(const Point& a, const Point& b, const Point& c, const Point& d);

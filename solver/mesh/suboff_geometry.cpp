@@ -94,7 +94,6 @@ Real Sail::half_thickness(Real x, Real s) const {
 
 Fin::Fin(std::string name, const Shape& shape) : Appendage(std::move(name)), shape_(shape) {
   if (!(chord(shape.tip_span) > 0.0)) fail("fin '{}': the chord vanishes before the tip", this->name());
-  if (!(shape.cap_height >= 0.0)) fail("fin '{}': negative cap height", this->name());
 }
 
 Real Fin::section(Real xi) {
@@ -106,11 +105,7 @@ Real Fin::section(Real xi) {
 Real Fin::half_thickness(Real x, Real s) const {
   if (s >= shape_.tip_span) return 0.0;
   const Real c = chord(s);
-  const Real t = c * (shape_.thickness_ratio / 0.20) * section(chord_fraction(x, s));
-  const Real cap_start = shape_.tip_span - shape_.cap_height;
-  if (s <= cap_start || shape_.cap_height <= 0.0) return t;
-  const Real u = (s - cap_start) / shape_.cap_height;
-  return t * (1.0 - u * u);
+  return c * (shape_.thickness_ratio / 0.20) * section(chord_fraction(x, s));
 }
 
 Real Fin::root(Real x) const {
@@ -152,7 +147,6 @@ std::unique_ptr<Fin> make_sail_plane(bool starboard, Real deflection) {
   shape.chord_slope = (D::kTipChord - D::kRootChord) / D::kTipSpan;
   shape.tip_span = D::kTipSpan;
   shape.thickness_ratio = D::kThicknessRatio;
-  shape.cap_height = 0.5 * D::kThicknessRatio * D::kTipChord;
   shape.on_sail = true;
   auto fin = std::make_unique<Fin>(starboard ? "starboard_sail_plane" : "port_sail_plane", shape);
   fin->origin = Vec3(0.0, D::kHeight, 0.0);

