@@ -112,23 +112,44 @@ OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spe
 
   const Side up(section.upper), lo(section.lower);
   const Real ua = spec.leading_edge_arc, ub = spec.trailing_edge_arc;
-  // Spacings at the junctions: the geometric mean of the two neighbouring blocks' mean
-  // spacings along the section, so that neither side jumps.
-  auto junction = [](Real len_a, int n_a, Real len_b, int n_b) { return std::sqrt(len_a / n_a * (len_b / n_b)); };
   const int hf = m_front / 2, hb = m_back / 2;
   const Real up_a = up.arc_at(ua), up_b = up.arc_at(ub), up_end = up.arc_at(1.0);
   const Real lo_a = lo.arc_at(ua), lo_b = lo.arc_at(ub), lo_end = lo.arc_at(1.0);
-  const Real da_up = junction(up_a, hf, up_b - up_a, n_upper), db_up = junction(up_b - up_a, n_upper, up_end - up_b, hb);
-  const Real da_lo = junction(lo_a, hf, lo_b - lo_a, n_lower), db_lo = junction(lo_b - lo_a, n_lower, lo_end - lo_b, hb);
+  // The sides' nodes follow the box's: a node lies about where its box node is along the
+  // chord (its line then leaves the section about square), and the box's nodes ahead of
+  // and behind the section (its margins) crowd towards the junctions, keeping a fifth of
+  // their share. Lines to box nodes far along the chord from their section node lean and
+  // shear their cells (a box a chord long with the section's nodes spread evenly leaned
+  // the lines by up to 80 degrees).
+  auto side_arcs = [&](const Side& side, const std::vector<Point>& along, Real arc_a, Real arc_b) {
+    const Real s0 = along.front()[0], length = along.back()[0] - s0;
+    const Real fa = (side.at(ua)[0] - s0) / length, fb = (side.at(ub)[0] - s0) / length;
+    constexpr Real keep = 0.2;
+    std::vector<Real> arcs;
+    for (const Point& p : along) {
+      const Real f = (p[0] - s0) / length;
+      const Real g = keep * f + (1.0 - keep) * std::clamp((f - fa) / (fb - fa), 0.0, 1.0);
+      arcs.push_back(arc_a + (arc_b - arc_a) * g);
+    }
+    arcs.front() = arc_a;
+    arcs.back() = arc_b;
+    return arcs;
+  };
+  std::vector<Point> bottom_forward = box.bottom;
+  std::reverse(bottom_forward.begin(), bottom_forward.end());
+  const std::vector<Real> upper_arcs = side_arcs(up, box.top, up_a, up_b);
+  const std::vector<Real> lower_arcs = side_arcs(lo, bottom_forward, lo_a, lo_b);
+  const Real da_up = upper_arcs[1] - upper_arcs[0], db_up = upper_arcs.back() - upper_arcs[upper_arcs.size() - 2];
+  const Real da_lo = lower_arcs[1] - lower_arcs[0], db_lo = lower_arcs.back() - lower_arcs[lower_arcs.size() - 2];
   const Real le = spec.leading_edge_spacing, te = spec.trailing_edge_spacing;
 
   std::vector<SectionNode> nodes;
   append(nodes, lo, false, fitted_nodes(0.0, lo_a, hf, le, da_lo), true, false);  // junction -> LE
   append(nodes, up, true, fitted_nodes(0.0, up_a, hf, le, da_up), false, true);   // LE -> junction
-  append(nodes, up, true, fitted_nodes(up_a, up_b, n_upper, da_up, db_up), false, true);
+  append(nodes, up, true, upper_arcs, false, true);
   append(nodes, up, true, fitted_nodes(up_b, up_end, hb, db_up, te), false, true);  // -> TE
   append(nodes, lo, false, fitted_nodes(lo_b, lo_end, hb, db_lo, te), true, true);  // TE -> junction
-  append(nodes, lo, false, fitted_nodes(lo_a, lo_b, n_lower, da_lo, db_lo), true, true);
+  append(nodes, lo, false, lower_arcs, true, true);
   const int around = m_front + n_upper + m_back + n_lower;
   if (static_cast<int>(nodes.size()) != around + 1) fail("section O-grid: internal: {} ring nodes", nodes.size());
   // The edges' normals bisect the two sides' tangents (the leading edge's ahead of it,
