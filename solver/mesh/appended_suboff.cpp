@@ -63,9 +63,13 @@ Stations make_stations(const AppendedSuboffSpec& spec, const Meridian& m, Real r
   const Real S = m.length();
   Stations st;
   // The sail's window: stations at x, lines straight up (its sections do not change with height).
+  // At least 0.9 of the chord's mean spacing at the appendages' edges (here and for the
+  // fins below): the stations carry the boxes' sides and margins, and a box front much
+  // wider than deep (the margin's stations clustered at the edge) had concave cells.
+  const Real sail_mean = (suboff::Sail::kTrailingEdge - suboff::Sail::kLeadingEdge) / spec.cells_sail;
   const std::vector<Real> x_sail = two_sided_nodes(suboff::Sail::kLeadingEdge, suboff::Sail::kTrailingEdge,
-                                                   spec.cells_sail, spec.leading_edge_spacing / ft,
-                                                   spec.trailing_edge_spacing / ft);
+                                                   spec.cells_sail, std::max(spec.leading_edge_spacing / ft, 0.9 * sail_mean),
+                                                   std::max(spec.trailing_edge_spacing / ft, 0.9 * sail_mean));
   std::vector<Real> s_sail;
   std::vector<WallLine> sail_lines;
   for (const Real x : x_sail) {
@@ -77,8 +81,9 @@ Stations make_stations(const AppendedSuboffSpec& spec, const Meridian& m, Real r
   const auto fin = suboff::make_stern_appendage(suboff::SternAppendage::UpperRudder);
   const auto& shape = fin->shape();
   const Real mean_chord = fin->chord(0.5 * (0.4 + shape.tip_span));
-  const std::vector<Real> xi = two_sided_nodes(0.0, 1.0, spec.cells_fin, spec.leading_edge_spacing / (ft * mean_chord),
-                                               spec.trailing_edge_spacing / (ft * mean_chord));
+  const std::vector<Real> xi = two_sided_nodes(0.0, 1.0, spec.cells_fin,
+                                               std::max(spec.leading_edge_spacing / (ft * mean_chord), 0.9 / spec.cells_fin),
+                                               std::max(spec.trailing_edge_spacing / (ft * mean_chord), 0.9 / spec.cells_fin));
   std::vector<Real> s_fin;
   std::vector<WallLine> fin_lines;
   for (const Real f : xi) {
@@ -368,6 +373,8 @@ Grid cut_around_boxes(const std::vector<Block>& blocks, const Layout& lay, const
       for (std::size_t c = 0; c + 1 < j_cuts.size(); ++c)
         for (std::size_t e = 0; e + 1 < k_cuts.size(); ++e) {
           if (!square && boxed(sector, a, c)) continue;
+          // Boxes as wide as half a sector leave no middle piece.
+          if (j_cuts[c + 1] == j_cuts[c] || (square && ic[a + 1] == ic[a])) continue;
           const std::string name = square ? fmt::format("{}_{}{}_{}", b.name, a, c, e == 0 ? "inner" : "outer")
                                           : fmt::format("{}_{}_{}_{}", b.name, stretch[a], across[c],
                                                         e == 0 ? "inner" : "outer");
@@ -390,6 +397,9 @@ std::vector<std::string> appended_suboff_configurations() {
 Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
   const int na = spec.cells_around;
   if (na < 2 || na % 2 != 0) fail("appended SUBOFF grid: cells_around ({}) must be even", na);
+  if (spec.box_half_width < 1 || 2 * spec.box_half_width > na)
+    fail("appended SUBOFF grid: box_half_width ({}) must lie between 1 and half of cells_around ({})",
+         spec.box_half_width, na);
   if (spec.deflections.rudder != 0.0 || spec.deflections.stern_planes != 0.0 || spec.deflections.sail_planes != 0.0)
     fail("appended SUBOFF grid: deflected control surfaces are not meshed yet");
   const auto meshed = appended_suboff_configurations();

@@ -60,7 +60,7 @@ struct AppendedSuboffSpec {
   // plane, stations ahead of and behind the chord, O cells from the section to the box,
   // how far the O's lines leave along the section's normal, the spacing along the section
   // at its edges, and the height over which the cap block widens above the tip.
-  int box_half_width = 8;
+  int box_half_width = 16;
   int cells_margin = 16;
   int cells_section = 32;
   Real section_layer = 2e-3;
