@@ -114,25 +114,24 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
   else
     a.fin_spacing = r.number_or("grid.fin_spacing", a.fin_spacing, "the first spacing off the appendages",
                                 Range::between(0.0, 0.01 * a.length));
-  a.tip_spacing = r.number_or("grid.tip_spacing", a.tip_spacing, "the spacing along the wall lines at the tip level",
-                              Range::between(0.0, 0.05 * a.length));
-  a.leading_edge_spacing = r.number_or("grid.leading_edge_spacing", a.leading_edge_spacing,
-                                       "the chordwise spacing at the appendages' leading edges",
-                                       Range::between(0.0, 0.01 * a.length));
-  a.trailing_edge_spacing = r.number_or("grid.trailing_edge_spacing", a.trailing_edge_spacing,
-                                        "the chordwise spacing at the appendages' trailing edges",
-                                        Range::between(0.0, 0.01 * a.length));
-  a.pole_spacing = r.number_or("grid.pole_spacing", a.pole_spacing, "the meridional spacing at nose and tail",
-                               Range::between(0.0, 0.01 * a.length));
-  a.section_layer = r.number_or("grid.section_layer", a.section_layer,
-                                "how far the appendages' O-grid lines leave along the section's normal",
-                                Range::between(0.0, 0.05 * a.length));
-  a.section_edge_spacing = r.number_or("grid.section_edge_spacing", a.section_edge_spacing,
-                                       "the spacing along the appendages' sections at their edges",
-                                       Range::between(0.0, 0.01 * a.length));
-  a.cap_growth = r.number_or("grid.cap_growth", a.cap_growth,
-                             "the height over which the cap blocks widen above the appendages' tips",
-                             Range::between(0.0, a.far_field * a.length));
+  struct Length {
+    const char* key;
+    Real* value;
+    const char* what;
+    Real largest;  // in overall lengths
+  };
+  const Length lengths[] = {
+      {"tip_spacing", &a.tip_spacing, "the spacing along the wall lines at the tip level", 0.05},
+      {"leading_edge_spacing", &a.leading_edge_spacing, "the stations' spacing at the appendages' leading edges", 0.01},
+      {"trailing_edge_spacing", &a.trailing_edge_spacing, "the stations' spacing at the appendages' trailing edges",
+       0.01},
+      {"pole_spacing", &a.pole_spacing, "the meridional spacing at nose and tail", 0.01},
+      {"section_layer", &a.section_layer, "how far the appendages' O-grid lines leave along the section's normal", 0.05},
+      {"section_edge_spacing", &a.section_edge_spacing, "the spacing along the appendages' sections at their edges",
+       0.01},
+      {"cap_growth", &a.cap_growth, "the height over which the cap blocks widen above the appendages' tips", a.far_field}};
+  for (const Length& l : lengths)
+    *l.value = r.number_or(std::string("grid.") + l.key, *l.value, l.what, Range::between(0.0, l.largest * a.length));
 }
 
 void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g) {
