@@ -48,10 +48,13 @@ int check_case(const std::string& path, const std::vector<std::string>& override
   const MultigridSettings& ms = c.solver.multigrid;
   const CoarseLevels coarse = coarse_levels(g, ms.levels, ms.min_cells);
   const std::size_t levels = coarse.grids.size() + 1;
+  if (coarse.impossible)
+    fail("{}: key 'solver.multigrid_levels': {} levels need {} coarsenings, but coarsening {} fails: {}", path,
+         ms.levels, ms.levels - 1, levels, coarse.stop);
   if (coarse.stop.empty())
     fmt::print("  multigrid: {} level(s)\n", levels);
   else
-    fmt::print("  multigrid: {} level(s) of {} ({})\n", levels, ms.levels, coarse.stop);
+    fmt::print("  multigrid: {} level(s) of {} (solver.multigrid_min_cells: {})\n", levels, ms.levels, coarse.stop);
   return 0;
 }
 

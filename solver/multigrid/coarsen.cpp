@@ -80,7 +80,9 @@ CoarseLevels coarse_levels(const Grid& fine, int levels, int min_cells) {
   CoarseLevels out;
   for (int built = 1; built < levels; ++built) {
     const Grid& last = out.grids.empty() ? fine : out.grids.back();
-    out.stop = why_not_coarsenable(last, min_cells);
+    out.stop = why_not_coarsenable(last);
+    out.impossible = !out.stop.empty();
+    if (!out.impossible) out.stop = why_not_coarsenable(last, min_cells);
     if (!out.stop.empty()) break;
     out.grids.push_back(coarsen(last));
   }

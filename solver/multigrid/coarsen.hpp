@@ -22,11 +22,14 @@ Grid coarsen(const Grid& g);
 
 // The coarse levels FAS multigrid builds below `fine` (NUMERICS §7.1): up to `levels` - 1
 // of them, stopping where a coarsening is impossible or would keep fewer than `min_cells`
-// cells in some block; `stop` says why it stopped short ("" when all were built). The one
-// place that decides the hierarchy: the solver and `narwhal check` both ask it.
+// cells in some block; `stop` says why it stopped short ("" when all were built), and
+// `impossible` whether the grid cannot coarsen at all there (odd counts; not merely too
+// few cells). The one place that decides the hierarchy: the solver and `narwhal check`
+// (which refuses the impossible) both ask it.
 struct CoarseLevels {
   std::vector<Grid> grids;
   std::string stop;
+  bool impossible = false;
 };
 CoarseLevels coarse_levels(const Grid& fine, int levels, int min_cells);
 
