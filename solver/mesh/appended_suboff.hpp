@@ -45,11 +45,12 @@ struct AppendedSuboffSpec {
   int cells_span = 64;      // hull -> tip level
   int cells_outer = 48;     // tip level -> far field
   Real first_spacing = 2e-6;   // off the hull, grid units
-  Real fin_spacing = 2e-6;     // off the appendages (at the sail's crest, the largest radius)
+  Real fin_spacing = 2e-6;     // off the appendages (the O-grids' first spacing along the section's normal)
   Real tip_spacing = 1e-3;     // along the wall lines at the tip level
   // The stations' spacing at the appendages' leading and trailing edges. The boxes' O-grids
   // resolve the edges; the stations only carry the boxes' sides, which want about the
-  // chord's mean spacing (and the margins ahead and behind a fair distance).
+  // chord's mean spacing (and the margins ahead and behind a fair distance): the grid
+  // raises either to 0.9 of the chord's mean spacing if it is smaller.
   Real leading_edge_spacing = 1e-3;
   Real trailing_edge_spacing = 1e-3;
   // Along the meridians at nose and tail. The pole squares are cells_around x pole_spacing

@@ -6,8 +6,8 @@
 // appendages get boxes of their own instead of clustering the hull's H-grid).
 //
 // The O's wall-normal lines start along the section's normal (so the first spacing is
-// exactly the wall spacing asked for) and turn over part of their length to the straight
-// line to their box node; the box's nodes are given (they are the surrounding grid's), so
+// exactly the wall spacing asked for) for a layer holding half their cells, then run
+// straight to their box node; the box's nodes are given (they are the surrounding grid's), so
 // the O's clustering stays inside the box. Its ring of section nodes runs from the lower
 // leading-edge junction round the leading edge, along the upper side, round the trailing
 // edge and back along the lower side, matched side by side to the box:

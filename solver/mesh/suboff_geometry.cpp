@@ -48,14 +48,6 @@ Vec3 Appendage::surface_point(Real x, Real s, int side) const {
 
 // ---- §3: the sail ----
 
-Sail::Sail(Real crest_slope)
-    : Appendage("sail"),
-      crest_slope_(crest_slope),
-      // The ellipse Z2 = Z1 sqrt(1 - u^2), y = top + u Z1 / 2 has |dZ2/dy| = 2u / sqrt(1 - u^2).
-      tangent_u_(crest_slope > 0.0 ? crest_slope / std::sqrt(4.0 + crest_slope * crest_slope) : 1.0) {
-  if (crest_slope < 0.0) fail("sail: negative crest slope {}", crest_slope);
-}
-
 Real Sail::section_half_thickness(Real x) {
   constexpr Real fore_end = 3.358507, parallel_end = 3.559028;
   if (x <= kLeadingEdge || x >= kTrailingEdge) return 0.0;
@@ -70,22 +62,12 @@ Real Sail::section_half_thickness(Real x) {
   return kMaxHalfThickness * (2.238361 * e * em4 + 3.106529 * e * e * em3 + 1.0 - em4 * (4.0 * e + 1.0));
 }
 
-// The cap's crest: its cross-section is a half-ellipse of semi-axes Z1 (across) and Z1/2
-// (up), or that ellipse up to u = tangent_u_ and then its tangent.
-Real Sail::tip(Real x) const {
-  const Real z1 = section_half_thickness(x);
-  if (crest_slope_ <= 0.0) return kUniformTop + 0.5 * z1;
-  const Real u = tangent_u_;
-  return kUniformTop + 0.5 * z1 * u + z1 * std::sqrt(1.0 - u * u) / crest_slope_;
-}
+// The cap's crest: its cross-section is a half-ellipse of semi-axes Z1 (across) and Z1/2 (up).
+Real Sail::tip(Real x) const { return kUniformTop + 0.5 * section_half_thickness(x); }
 
 Real Sail::half_thickness(Real x, Real s) const {
   const Real z1 = section_half_thickness(x);
   if (s <= kUniformTop) return z1;
-  if (crest_slope_ > 0.0) {
-    const Real u = tangent_u_, s_tangent = kUniformTop + 0.5 * z1 * u;
-    if (s > s_tangent) return std::max(0.0, z1 * std::sqrt(1.0 - u * u) - crest_slope_ * (s - s_tangent));
-  }
   const Real up = 2.0 * (s - kUniformTop);
   return std::sqrt(std::max(0.0, z1 * z1 - up * up));
 }
@@ -163,14 +145,14 @@ const std::vector<std::string>& configuration_names() {
   return names;
 }
 
-Configuration make_configuration(const std::string& name, const Deflections& d, Real sail_crest_slope) {
+Configuration make_configuration(const std::string& name, const Deflections& d) {
   const auto& names = configuration_names();
   if (std::find(names.begin(), names.end(), name) == names.end())
     fail("SUBOFF configuration '{}': expected one of {}", name, fmt::join(names, ", "));
   Configuration c{name, {}};
   const bool sail = name == "sail" || name == "sail_stern4" || name == "full";
   const bool stern = name == "stern4" || name == "sail_stern4" || name == "full";
-  if (sail) c.appendages.push_back(std::make_unique<Sail>(sail_crest_slope));
+  if (sail) c.appendages.push_back(std::make_unique<Sail>());
   if (stern) {
     c.appendages.push_back(make_stern_appendage(SternAppendage::UpperRudder, d.rudder));
     c.appendages.push_back(make_stern_appendage(SternAppendage::LowerRudder, d.rudder));

@@ -74,14 +74,10 @@ class Appendage {
   std::string name_;
 };
 
-// §3: the fairwater on top dead centre, closed by its elliptic cap. With crest_slope > 0
-// the cap's ellipse gives way, where its slope |dZ2/dy| reaches crest_slope, to its
-// tangent, which closes the section a little higher with that slope: a grid that ends the
-// sail on a block boundary cannot follow a crest tangent to it (mesh/DESIGN.md).
+// §3: the fairwater on top dead centre, closed by its elliptic cap.
 class Sail final : public Appendage {
  public:
-  explicit Sail(Real crest_slope = 0.0);
-  Real crest_slope() const { return crest_slope_; }
+  Sail() : Appendage("sail") {}
   static constexpr Real kLeadingEdge = 3.032986, kTrailingEdge = 4.241319;
   static constexpr Real kUniformTop = 1.507813, kMaxHalfThickness = 0.109375;
   // Z1(x): the half-thickness of the uniform section.
@@ -91,10 +87,6 @@ class Sail final : public Appendage {
   Real tip(Real x) const override;
   Real half_thickness(Real x, Real s) const override;
   Real root(Real x) const override { return hull_radius(x); }
-
- private:
-  Real crest_slope_;
-  Real tangent_u_;  // where the ellipse's slope is crest_slope: u = 2 (y - top) / Z1
 };
 
 // A fin of the stern appendages' family (§4): the DTRC section z/c (a NACA-0020-type
@@ -152,9 +144,7 @@ struct Configuration {
 struct Deflections {
   Real rudder = 0.0, stern_planes = 0.0, sail_planes = 0.0;  // radians
 };
-// sail_crest_slope: see Sail (0: the report's cap).
-Configuration make_configuration(const std::string& name, const Deflections& deflections = {},
-                                 Real sail_crest_slope = 0.0);
+Configuration make_configuration(const std::string& name, const Deflections& deflections = {});
 // The valid names, for messages.
 const std::vector<std::string>& configuration_names();
 
