@@ -100,7 +100,7 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
   if (a.cells_around % 2 != 0)
     r.error("grid.cells_around", fmt::format("expected an even count, got {}", a.cells_around));
   a.far_field = r.number_or("grid.far_field", a.far_field, "the far-field distance in overall lengths", Range::at_least(1.0));
-  for (const char* k : {"first_spacing", "fin_spacing"})
+  for (const char* k : {"first_spacing", "fin_spacing", "tip_spacing"})
     if (r.has(std::string("grid.") + k + "_yplus") && r.has(std::string("grid.") + k))
       r.error(std::string("grid.") + k + "_yplus", fmt::format("give either grid.{0} or grid.{0}_yplus, not both", k));
   if (r.has("grid.first_spacing_yplus"))
@@ -114,6 +114,12 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
   else
     a.fin_spacing = r.number_or("grid.fin_spacing", a.fin_spacing, "the first spacing off the appendages",
                                 Range::between(0.0, 0.01 * a.length));
+  // The tip level is the appendages' tip faces, walls as their sides.
+  if (r.has("grid.tip_spacing_yplus"))
+    a.tip_spacing = spacing_for_y_plus(r, "grid.tip_spacing_yplus", fin_chord);
+  else
+    a.tip_spacing = r.number_or("grid.tip_spacing", a.tip_spacing, "the spacing along the wall lines at the tip level",
+                                Range::between(0.0, 0.05 * a.length));
   struct Length {
     const char* key;
     Real* value;
@@ -121,7 +127,6 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
     Real largest;  // in overall lengths
   };
   const Length lengths[] = {
-      {"tip_spacing", &a.tip_spacing, "the spacing along the wall lines at the tip level", 0.05},
       {"leading_edge_spacing", &a.leading_edge_spacing, "the stations' spacing at the appendages' leading edges", 0.01},
       {"trailing_edge_spacing", &a.trailing_edge_spacing, "the stations' spacing at the appendages' trailing edges",
        0.01},

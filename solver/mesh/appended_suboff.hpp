@@ -42,11 +42,11 @@ struct AppendedSuboffSpec {
   int cells_fin = 32;       // the stern appendages' chord
   int cells_stern = 48;     // their trailing edges -> the tail square
   int cells_around = 32;    // per 90-degree sector
-  int cells_span = 64;      // hull -> tip level
-  int cells_outer = 48;     // tip level -> far field
+  int cells_span = 80;      // hull -> tip level
+  int cells_outer = 64;     // tip level -> far field
   Real first_spacing = 2e-6;   // off the hull, grid units
   Real fin_spacing = 2e-6;     // off the appendages (the O-grids' first spacing along the section's normal)
-  Real tip_spacing = 1e-3;     // along the wall lines at the tip level
+  Real tip_spacing = 2e-6;     // along the wall lines at the tip level (the tip faces' first spacing)
   // The stations' spacing at the appendages' leading and trailing edges. The boxes' O-grids
   // resolve the edges; the stations only carry the boxes' sides, which want about the
   // chord's mean spacing (and the margins ahead and behind a fair distance): the grid
