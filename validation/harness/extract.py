@@ -107,6 +107,26 @@ def surface_at(ctx, spec, run_id):
     return float(np.interp(x0, c.x, c.y))
 
 
+@extractor("surface_largest", "groups", "column")
+def surface_largest(ctx, spec, run_id):
+    """The largest value of a surface column over the faces of several wall groups (the
+    wall cells' y+ on a hull and each of its appendages)."""
+    groups = _need(spec, "groups", "the wall groups")
+    col = _need(spec, "column", "the surface column")
+    if not isinstance(groups, list) or not groups:
+        raise HarnessError("surface_largest: 'groups' must be a non-empty list of wall groups")
+    largest = -np.inf
+    for group in groups:
+        path = ctx.run_dir(run_id) / f"surface_{group}.csv"
+        if not path.exists():
+            raise HarnessError(f"run '{run_id}' wrote no {path.name}")
+        t = read_csv(path)
+        if col not in t:
+            raise HarnessError(f"{path.name} has no column '{col}'")
+        largest = max(largest, float(np.max(t[col])))
+    return largest
+
+
 @extractor("wall_units", "x", "reynolds", "group", "yplus_min", "yplus_max")
 def wall_units(ctx, spec, run_id):
     """u+ against y+ at station x of a single-block plate: u_tau = sqrt(|Cf|/2) from the
@@ -327,6 +347,16 @@ def ratio(ctx, spec, run_id):
     if b == 0.0:
         raise HarnessError("ratio: the denominator is zero")
     return float(a) / float(b)
+
+
+@extractor("difference", "a", "b")
+def difference(ctx, spec, run_id):
+    """a - b of two scalar extractions, e.g. an appended hull's resistance less the bare
+    hull's (the appendages' increment)."""
+    a, b = extract(ctx, _need(spec, "a", "the minuend extraction")), extract(ctx, _need(spec, "b", "the subtrahend"))
+    if isinstance(a, (Curve, Family)) or isinstance(b, (Curve, Family)):
+        raise HarnessError("difference needs two scalar extractions")
+    return float(a) - float(b)
 
 
 @extractor("dimensional", "of", "density", "speed", "area")

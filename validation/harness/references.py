@@ -91,6 +91,17 @@ DERIVED = {
 }
 
 
+def _column_value(ref, spec, where):
+    """One value of spec['column']: the row `where` selects (exactly one), else spec['row']."""
+    col = ref.column(spec["column"], ref.rows_where(where) if where is not None else None)
+    if where is not None and col.size != 1:
+        raise HarnessError(f"reference '{spec['file']}': {col.size} rows match {where}, expected one")
+    row = int(spec.get("row", 0))
+    if not -col.size <= row < col.size:
+        raise HarnessError(f"reference '{spec['file']}': row {row} out of range ({col.size} rows)")
+    return float(col[row])
+
+
 def resolve_reference(ctx, spec, root, run_id_for_inputs=None):
     """Returns (value, description). Missing files, columns or header lines are errors."""
     if not spec:
@@ -120,11 +131,11 @@ def resolve_reference(ctx, spec, root, run_id_for_inputs=None):
         x = np.arange(y.size, dtype=float) if spec["x"] == "#row" else ref.column(spec["x"], rows)
         return Curve(x, y, spec["y"]), desc
     if "column" in spec:
-        col = ref.column(spec["column"], ref.rows_where(spec["where"]) if "where" in spec else None)
-        if "where" in spec and col.size != 1:
-            raise HarnessError(f"reference '{spec['file']}': {col.size} rows match {spec['where']}, expected one")
-        row = int(spec.get("row", 0))
-        if not -col.size <= row < col.size:
-            raise HarnessError(f"reference '{spec['file']}': row {row} out of range ({col.size} rows)")
-        return float(col[row]), desc
+        value = _column_value(ref, spec, spec.get("where"))
+        if "minus" in spec:
+            if "where" not in spec:
+                raise HarnessError(f"reference '{spec['file']}': 'minus' needs 'where' (the row it is subtracted from)")
+            value -= _column_value(ref, spec, spec["minus"])
+            desc += f" ({spec['column']} where {spec['where']} minus where {spec['minus']})"
+        return value, desc
     raise HarnessError(f"reference '{spec['file']}': say what to take (column, header, x/y or derive)")

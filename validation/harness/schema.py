@@ -22,11 +22,13 @@ def extractor(kind, *keys):
 
 
 # Extractions whose values are extractions themselves.
-NESTED = {"ratio": ("a", "b"), "curve_difference": ("a", "b"), "dimensional": ("of",)}
+NESTED = {"ratio": ("a", "b"), "difference": ("a", "b"), "curve_difference": ("a", "b"), "dimensional": ("of",)}
 
 # `extract`: the reference is another run's value (a peer code's run), extracted as the
 # computed value is; the other keys read a file under reference_data/.
-REFERENCE = ("file", "derive", "params", "header", "x", "y", "where", "column", "row", "extract")
+# `minus`: the same column's value in the row it selects (as `where`) is subtracted (a
+# measured increment between two configurations).
+REFERENCE = ("file", "derive", "params", "header", "x", "y", "where", "column", "row", "minus", "extract")
 DNS_REFERENCE = ("file", "where")
 
 # Options a comparator takes; log_x (a logarithmic x axis in the report) goes with any.

@@ -168,6 +168,37 @@ class AxialProfileAndNewtons(unittest.TestCase):
                 parts(Ctx(d), {"part": "viscous"}, "run")
 
 
+    def test_the_largest_y_plus_over_several_walls(self):
+        with tempfile.TemporaryDirectory() as d:
+            write_surface(Path(d) / "run" / "surface_body.csv", lambda x, phi: x)
+            (Path(d) / "run" / "surface_sail.csv").write_text(
+                "x,y,z,nx,ny,nz,area,cp,cf_x,cf_y,cf_z,cf_signed,y_plus\n0.3,0,0.1,0,0,1,1,0,0,0,0,0,1.25\n"
+                "0.4,0,0.1,0,0,1,1,0,0,0,0,0,0.5\n")
+            largest = EXTRACT["surface_largest"][0]
+            self.assertEqual(largest(Ctx(d), {"groups": ["body", "sail"], "column": "y_plus"}, "run"), 1.25)
+            self.assertAlmostEqual(largest(Ctx(d), {"groups": ["body"], "column": "cp"}, "run"), 0.998, places=12)
+            from harness.errors import HarnessError
+            with self.assertRaisesRegex(HarnessError, "surface_rudder.csv"):
+                largest(Ctx(d), {"groups": ["body", "rudder"], "column": "y_plus"}, "run")
+            with self.assertRaisesRegex(HarnessError, "no column"):
+                largest(Ctx(d), {"groups": ["sail"], "column": "yplus"}, "run")
+
+    def test_an_increment_between_two_runs_each_at_its_own_speed(self):
+        with tempfile.TemporaryDirectory() as d:
+            for run, cfx in (("bare", 0.002), ("appended", 0.0025)):
+                (Path(d) / run).mkdir()
+                (Path(d) / run / "history.csv").write_text(f"iteration,body_cfx\n1,0.5\n2,{cfx}\n")
+            def newtons(run, speed):
+                return {"kind": "dimensional", "run": run, "of": {"kind": "history_last", "column": "body_cfx"},
+                        "density": 1000.0, "speed": speed, "area": 2.0}
+            diff = EXTRACT["difference"][0]
+            got = diff(Ctx(d), {"a": newtons("appended", 3.1), "b": newtons("bare", 3.0)}, "")
+            self.assertAlmostEqual(got, 0.0025 * 1000.0 * 3.1 ** 2 - 0.002 * 1000.0 * 9.0, places=12)
+            from harness.errors import HarnessError
+            with self.assertRaisesRegex(HarnessError, "minuend"):
+                diff(Ctx(d), {"b": newtons("bare", 3.0)}, "")
+
+
 def crossflow_table(separation_of_x, slant=0.003):
     """Faces on meridians every 5 degrees (from 2.5), stations slanted in x as on
     narwhal's grids; circumferential friction c (phi_s(x) - |phi|) toward leeward on

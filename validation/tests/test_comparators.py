@@ -168,6 +168,18 @@ class ReferenceRows(unittest.TestCase):
         with self.assertRaisesRegex(HarnessError, "2 rows match"):
             resolve_reference(None, {"file": "t.csv", "column": "cf", "where": {"model": "SA"}}, self.root)
 
+    def test_minus_subtracts_the_value_of_another_row(self):
+        from harness.references import resolve_reference
+        v, desc = resolve_reference(None, {"file": "t.csv", "column": "cf", "where": {"model": "SST"},
+                                           "minus": {"model": "SA", "grid": "273x193"}}, self.root)
+        self.assertAlmostEqual(v, 0.0027174 - 0.0027285, places=15)
+        self.assertIn("minus", desc)
+        with self.assertRaisesRegex(HarnessError, "2 rows match"):
+            resolve_reference(None, {"file": "t.csv", "column": "cf", "where": {"model": "SST"},
+                                     "minus": {"model": "SA"}}, self.root)
+        with self.assertRaisesRegex(HarnessError, "needs 'where'"):
+            resolve_reference(None, {"file": "t.csv", "column": "cf", "minus": {"model": "SST"}}, self.root)
+
     def test_text_column_is_not_numeric(self):
         from harness.reference import ReferenceFile
         with self.assertRaisesRegex(HarnessError, "not numeric"):
