@@ -100,26 +100,28 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
   if (a.cells_around % 2 != 0)
     r.error("grid.cells_around", fmt::format("expected an even count, got {}", a.cells_around));
   a.far_field = r.number_or("grid.far_field", a.far_field, "the far-field distance in overall lengths", Range::at_least(1.0));
-  for (const char* k : {"first_spacing", "fin_spacing", "tip_spacing"})
-    if (r.has(std::string("grid.") + k + "_yplus") && r.has(std::string("grid.") + k))
-      r.error(std::string("grid.") + k + "_yplus", fmt::format("give either grid.{0} or grid.{0}_yplus, not both", k));
-  if (r.has("grid.first_spacing_yplus"))
-    a.first_spacing = spacing_for_y_plus(r, "grid.first_spacing_yplus", a.length);
-  else
-    a.first_spacing = r.number_or("grid.first_spacing", a.first_spacing, "the first spacing off the hull",
-                                  Range::between(0.0, 0.01 * a.length));
+  // Each wall spacing is a length or a y+ target, on the Reynolds number of its wall: the
+  // hull's overall length, or the stern appendages' mean chord for the appendages' sides
+  // and their tip faces (the tip level is a wall as their sides are).
   const Real fin_chord = 0.6 / suboff::kOverallLength * a.length;
-  if (r.has("grid.fin_spacing_yplus"))
-    a.fin_spacing = spacing_for_y_plus(r, "grid.fin_spacing_yplus", fin_chord);
-  else
-    a.fin_spacing = r.number_or("grid.fin_spacing", a.fin_spacing, "the first spacing off the appendages",
-                                Range::between(0.0, 0.01 * a.length));
-  // The tip level is the appendages' tip faces, walls as their sides.
-  if (r.has("grid.tip_spacing_yplus"))
-    a.tip_spacing = spacing_for_y_plus(r, "grid.tip_spacing_yplus", fin_chord);
-  else
-    a.tip_spacing = r.number_or("grid.tip_spacing", a.tip_spacing, "the spacing along the wall lines at the tip level",
-                                Range::between(0.0, 0.05 * a.length));
+  struct WallSpacing {
+    const char* key;
+    Real* value;
+    const char* what;
+    Real reynolds_length;
+    Real largest;  // in overall lengths
+  };
+  const WallSpacing wall_spacings[] = {
+      {"first_spacing", &a.first_spacing, "the first spacing off the hull", a.length, 0.01},
+      {"fin_spacing", &a.fin_spacing, "the first spacing off the appendages", fin_chord, 0.01},
+      {"tip_spacing", &a.tip_spacing, "the spacing along the wall lines at the tip level", fin_chord, 0.05}};
+  for (const WallSpacing& w : wall_spacings) {
+    const std::string key = std::string("grid.") + w.key, key_yplus = key + "_yplus";
+    if (r.has(key_yplus) && r.has(key))
+      r.error(key_yplus, fmt::format("give either {} or {}, not both", key, key_yplus));
+    *w.value = r.has(key_yplus) ? spacing_for_y_plus(r, key_yplus, w.reynolds_length)
+                                : r.number_or(key, *w.value, w.what, Range::between(0.0, w.largest * a.length));
+  }
   struct Length {
     const char* key;
     Real* value;

@@ -115,16 +115,7 @@ def surface_largest(ctx, spec, run_id):
     col = _need(spec, "column", "the surface column")
     if not isinstance(groups, list) or not groups:
         raise HarnessError("surface_largest: 'groups' must be a non-empty list of wall groups")
-    largest = -np.inf
-    for group in groups:
-        path = ctx.run_dir(run_id) / f"surface_{group}.csv"
-        if not path.exists():
-            raise HarnessError(f"run '{run_id}' wrote no {path.name}")
-        t = read_csv(path)
-        if col not in t:
-            raise HarnessError(f"{path.name} has no column '{col}'")
-        largest = max(largest, float(np.max(t[col])))
-    return largest
+    return max(float(np.max(surface(ctx, {"group": g, "y": col}, run_id).y)) for g in groups)
 
 
 @extractor("wall_units", "x", "reynolds", "group", "yplus_min", "yplus_max")
@@ -338,25 +329,29 @@ def history_difference(ctx, spec, run_id):
     return worst
 
 
+def _two_scalars(ctx, spec, kind, a_is, b_is):
+    """The scalar extractions spec['a'] and spec['b'] of a two-operand extractor."""
+    a, b = extract(ctx, _need(spec, "a", a_is)), extract(ctx, _need(spec, "b", b_is))
+    if isinstance(a, (Curve, Family)) or isinstance(b, (Curve, Family)):
+        raise HarnessError(f"{kind} needs two scalar extractions")
+    return float(a), float(b)
+
+
 @extractor("ratio", "a", "b")
 def ratio(ctx, spec, run_id):
     """Ratio of two scalar extractions, e.g. single-grid over multigrid wall time."""
-    a, b = extract(ctx, _need(spec, "a", "the numerator extraction")), extract(ctx, _need(spec, "b", "the denominator"))
-    if isinstance(a, (Curve, Family)) or isinstance(b, (Curve, Family)):
-        raise HarnessError("ratio needs two scalar extractions")
+    a, b = _two_scalars(ctx, spec, "ratio", "the numerator extraction", "the denominator")
     if b == 0.0:
         raise HarnessError("ratio: the denominator is zero")
-    return float(a) / float(b)
+    return a / b
 
 
 @extractor("difference", "a", "b")
 def difference(ctx, spec, run_id):
     """a - b of two scalar extractions, e.g. an appended hull's resistance less the bare
     hull's (the appendages' increment)."""
-    a, b = extract(ctx, _need(spec, "a", "the minuend extraction")), extract(ctx, _need(spec, "b", "the subtrahend"))
-    if isinstance(a, (Curve, Family)) or isinstance(b, (Curve, Family)):
-        raise HarnessError("difference needs two scalar extractions")
-    return float(a) - float(b)
+    a, b = _two_scalars(ctx, spec, "difference", "the minuend extraction", "the subtrahend")
+    return a - b
 
 
 @extractor("dimensional", "of", "density", "speed", "area")
