@@ -139,6 +139,11 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
       {"cap_growth", &a.cap_growth, "the height over which the cap blocks widen above the appendages' tips", a.far_field}};
   for (const Length& l : lengths)
     *l.value = r.number_or(std::string("grid.") + l.key, *l.value, l.what, Range::between(0.0, l.largest * a.length));
+  // Last: the counts and spacings above (y+ targets included) are the scale-1 member's.
+  const Real scale = r.number_or("grid.scale", 1.0,
+                                 "the member of the grid family: cell counts times it, wall, edge and pole spacings over it",
+                                 Range::between(0.1, 2.0));
+  if (scale != 1.0) a = scaled(a, scale);
 }
 
 void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g) {

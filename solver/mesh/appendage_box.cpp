@@ -11,6 +11,8 @@
 namespace narwhal {
 namespace {
 
+constexpr int kCapRingCells = 8;
+
 using ogrid::Point;
 using revolution::kPi;
 
@@ -213,9 +215,9 @@ Level make_level(const AppendageBox& box, int k, const LevelChart& tip) {
     }
   for (int t = 0; t < n; ++t) lv.ring[static_cast<std::size_t>(t)].back() = lv.ring[static_cast<std::size_t>(t)].front();
   if (k >= box.tip_level) {
-    // The cap's ring an eighth of the O's cells deep left the grid coarsened twice (a
-    // multigrid level of the medium grid) one cell across it, and the multigrid none.
-    const ogrid::SectionCap cap = ogrid::section_cap(o, section, std::max(1, n / 4));
+    // Eight cells deep on every grid: three multigrid levels (8 -> 4 -> 2) on each member
+    // of a grid family (AppendedSuboffSpec's scale), however few cells its O has.
+    const ogrid::SectionCap cap = ogrid::section_cap(o, section, kCapRingCells);
     for (std::size_t t = 0; t < cap.ring.size(); ++t) {
       std::vector<Vec3> r;
       for (const auto& p : cap.ring[t]) r.push_back(to_space(box, chart, k, p));

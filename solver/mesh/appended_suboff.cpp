@@ -387,6 +387,20 @@ Grid cut_around_boxes(const std::vector<Block>& blocks, const Layout& lay, const
 
 }  // namespace
 
+AppendedSuboffSpec scaled(const AppendedSuboffSpec& spec, Real scale) {
+  if (!(scale > 0.0)) fail("appended SUBOFF grid: the scale must be positive, got {}", scale);
+  AppendedSuboffSpec s = spec;
+  const auto count = [scale](int n) { return std::max(4, 4 * static_cast<int>(std::lround(n * scale / 4.0))); };
+  for (int* n : {&s.cells_bow, &s.cells_sail, &s.cells_middle, &s.cells_fin, &s.cells_stern, &s.cells_around,
+                 &s.cells_span, &s.cells_outer, &s.box_half_width, &s.cells_margin, &s.cells_section})
+    *n = count(*n);
+  s.box_half_width = std::min(s.box_half_width, 4 * (s.cells_around / 8));
+  for (Real* h : {&s.first_spacing, &s.fin_spacing, &s.tip_spacing, &s.leading_edge_spacing, &s.trailing_edge_spacing,
+                  &s.pole_spacing, &s.section_edge_spacing})
+    *h /= scale;
+  return s;
+}
+
 std::vector<std::string> appended_suboff_configurations() {
   std::vector<std::string> meshed;
   for (const auto& name : suboff::configuration_names())

@@ -69,6 +69,16 @@ struct AppendedSuboffSpec {
   Real cap_growth = 0.05;
 };
 
+// A member of a grid family: every cell count times `scale`, rounded to a multiple of 4
+// (at least 4, the boxes' half width at most half the sector's), so that every block keeps
+// two multigrid levels or more (4 -> 2 cells);
+// every spacing set at the walls, edges and poles divided by `scale`, so that the family's
+// members are alike in shape (the wall cells' y+ goes as 1 / scale). The members are
+// generated, not coarsened: the family's finest grid need not be built to run its
+// coarsest, and the ratio of refinement is free (the harness takes each member's grid
+// spacing from its cell count).
+AppendedSuboffSpec scaled(const AppendedSuboffSpec& spec, Real scale);
+
 // The configurations these grids mesh: suboff::configuration_names() but `full` (its sail
 // planes are not meshed yet).
 std::vector<std::string> appended_suboff_configurations();

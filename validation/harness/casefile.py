@@ -24,7 +24,7 @@ class Run:
     tiers: tuple
     set: dict            # "dotted.key" -> TOML literal (string), passed as narwhal --set
     family: str = ""     # grid family name, '' for single runs
-    h: float = 0.0       # representative spacing within the family
+    h: float = 0.0       # representative spacing within the family, or "cells" (_grid_spacing)
     max_iterations: int = 0   # 0: the input's own limit
     restart_from: str = ""    # id of a run whose restart.h5 this run continues (a peer run: whose
                               # solution.cgns on the same grid it starts from)
@@ -148,6 +148,20 @@ class _Reader:
             raise HarnessError(f"{self.path}: " + "; ".join(msgs))
 
 
+def _grid_spacing(r):
+    """A run's representative grid spacing h: a number, or "cells" for N^(-1/3) of the cell
+    count its run.json reports (grid families generated member by member, whose
+    refinement ratios are not exact)."""
+    h = r.table.get("h", 0.0)
+    r.used.add("h")
+    if h == "cells":
+        return h
+    if isinstance(h, bool) or not isinstance(h, (int, float)):
+        raise HarnessError(f"{r.path}: key '{r._key('h')}': expected the representative grid spacing (a number) "
+                           f"or \"cells\", got {type(h).__name__} {h!r}")
+    return float(h)
+
+
 def _tiers(r, key, default, what):
     t = r.get(key, list, what, default=list(default))
     for x in t:
@@ -258,7 +272,7 @@ def load_rung(path):
         inp, sets = _input_and_overrides(r, path, f"run[{i}]")
         runs.append(Run(id=rid, input=inp, tiers=_tiers(r, "tiers", tiers, "a list of tiers"), set=sets,
                         family=r.get("family", str, "a grid-family name", default=""),
-                        h=r.get("h", float, "the representative grid spacing", default=0.0),
+                        h=_grid_spacing(r),
                         max_iterations=r.get("max_iterations", int, "an iteration limit", default=0),
                         restart_from=r.get("restart_from", str, "the id of the run to continue", default=""),
                         ranks=r.get("ranks", int, "a number of MPI ranks", default=0),
@@ -278,7 +292,7 @@ def load_rung(path):
     if len({x.id for x in sweeps}) != len(sweeps):
         raise HarnessError(f"{path}: sweep ids must be unique, got {[x.id for x in sweeps]}")
     for x in runs:
-        if x.family and x.h <= 0.0:
+        if x.family and x.h != "cells" and x.h <= 0.0:
             raise HarnessError(f"{path}: run '{x.id}' is in family '{x.family}' but has no positive 'h'")
         if x.restart_from and x.restart_from not in ids:
             raise HarnessError(f"{path}: run '{x.id}': restart_from names unknown run '{x.restart_from}'")

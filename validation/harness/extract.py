@@ -67,6 +67,18 @@ class Context:
             raise HarnessError(f"rung '{self.rung.name}': family '{name}' has {len(runs)} run(s) in this tier")
         return runs
 
+    def grid_spacing(self, run):
+        """The run's h: as declared, or N^(-1/3) of the cells its run.json reports."""
+        if run.h != "cells":
+            return run.h
+        path = self.run_dir(run.id) / "run.json"
+        try:
+            with open(path) as f:
+                cells = json.load(f)["cells"]
+        except (OSError, ValueError, KeyError) as e:
+            raise HarnessError(f"run '{run.id}': h = \"cells\" needs the cell count of {path}: {e}") from e
+        return float(cells) ** (-1.0 / 3.0)
+
     def resolve(self, run_id, value):
         """'input:<dotted.key>' strings are looked up in the run's input."""
         if isinstance(value, str) and value.startswith("input:"):
@@ -408,5 +420,6 @@ def extract(ctx, spec):
     spec = Declared(spec)
     if "family" in spec:
         runs = ctx.family_runs(spec["family"])
-        return Family([r.h for r in runs], [EXTRACT[kind][0](ctx, spec, r.id) for r in runs], spec["family"])
+        return Family([ctx.grid_spacing(r) for r in runs], [EXTRACT[kind][0](ctx, spec, r.id) for r in runs],
+                      spec["family"])
     return EXTRACT[kind][0](ctx, spec, spec.get("run", ""))

@@ -8,6 +8,7 @@ import support  # noqa: F401
 
 from harness.casefile import load_rung
 from harness.errors import HarnessError
+from harness.extract import Context
 from harness.reference import ReferenceFile
 
 GOOD = """
@@ -164,6 +165,22 @@ class RungFiles(unittest.TestCase):
         self.assertIn("sweep[1].like", self.error(GOOD + sweep + medium.replace('"drift"', '"yaw"')))
         self.assertIn("sweep[0].like", self.error(GOOD + medium + sweep))
         self.assertIn("sweep[1].set", self.error(GOOD + sweep + medium.replace('"grid.coarsen"', '"flow.drift_angle"')))
+
+    def test_a_family_members_spacing_is_a_number_or_its_cell_count(self):
+        fam = GOOD.replace('input = "in.toml"\n', 'input = "in.toml"\nfamily = "f"\nh = "cells"\n', 1)
+        run = load_rung(self.write(fam)).runs[0]
+        self.assertEqual(run.h, "cells")
+        with tempfile.TemporaryDirectory() as d:
+            (Path(d) / "run.json").write_text('{"cells": 125000}')
+            ctx = Context(load_rung(self.write(fam)), {"a": Path(d)}, {})
+            self.assertAlmostEqual(ctx.grid_spacing(run), 0.02, places=14)
+        with tempfile.TemporaryDirectory() as d:
+            ctx = Context(load_rung(self.write(fam)), {"a": Path(d)}, {})
+            with self.assertRaisesRegex(HarnessError, "cell count"):
+                ctx.grid_spacing(run)
+        msg = self.error(fam.replace('h = "cells"', 'h = "cell"'))
+        self.assertIn("run[0].h", msg)
+        self.assertIn('"cells"', msg)
 
     def test_misspelled_key_is_named_with_a_suggestion(self):
         msg = self.error(GOOD.replace("tolerance = 1.0", "tolerence = 1.0\ntolerance = 1.0"))

@@ -309,3 +309,56 @@ TEST(AppendedSuboff, CoarsenedGridsHaveNoFoldedCell) {
 
 }  // namespace
 }  // namespace narwhal
+
+namespace narwhal {
+namespace {
+
+// A family's members (AppendedSuboffSpec's scale): counts near n * scale in multiples of
+// 4, the boxes no wider than half a sector, the wall, edge and pole spacings over scale.
+TEST(AppendedSuboffFamily, MembersScaleCountsInFoursAndSpacingsInverse) {
+  const AppendedSuboffSpec base;
+  for (const Real scale : {0.75, 0.5, 0.25}) {
+    const AppendedSuboffSpec s = scaled(base, scale);
+    const std::pair<int, int> counts[] = {{base.cells_bow, s.cells_bow},       {base.cells_sail, s.cells_sail},
+                                          {base.cells_middle, s.cells_middle}, {base.cells_fin, s.cells_fin},
+                                          {base.cells_stern, s.cells_stern},   {base.cells_around, s.cells_around},
+                                          {base.cells_span, s.cells_span},     {base.cells_outer, s.cells_outer},
+                                          {base.cells_margin, s.cells_margin}, {base.cells_section, s.cells_section}};
+    for (const auto& [n, m] : counts) {
+      EXPECT_EQ(m % 4, 0) << n << " at scale " << scale;
+      EXPECT_LE(std::abs(m - n * scale), 2.0) << n << " at scale " << scale;
+    }
+    EXPECT_EQ(s.box_half_width % 4, 0);
+    EXPECT_LE(2 * s.box_half_width, s.cells_around);
+    EXPECT_DOUBLE_EQ(s.first_spacing, base.first_spacing / scale);
+    EXPECT_DOUBLE_EQ(s.fin_spacing, base.fin_spacing / scale);
+    EXPECT_DOUBLE_EQ(s.tip_spacing, base.tip_spacing / scale);
+    EXPECT_DOUBLE_EQ(s.pole_spacing, base.pole_spacing / scale);
+    EXPECT_DOUBLE_EQ(s.leading_edge_spacing, base.leading_edge_spacing / scale);
+    EXPECT_DOUBLE_EQ(s.section_edge_spacing, base.section_edge_spacing / scale);
+    EXPECT_DOUBLE_EQ(s.section_layer, base.section_layer);  // a length of the shape, not a spacing
+  }
+  EXPECT_THROW(scaled(base, 0.0), Error);
+}
+
+// grid.scale applies last, to the counts and spacings the case gives (y+ targets included),
+// and builds a grid whose every face is whole and every cell unfolded.
+TEST(AppendedSuboffFamily, TheCaseKeyScalesTheGridItDescribes) {
+  const CaseConfig one = parse_case(kAppendedCase, "appended.toml", ".");
+  const CaseConfig finer = parse_case(kAppendedCase, "appended.toml", ".", {"grid.scale=1.5"});
+  EXPECT_EQ(finer.grid.appended.cells_bow, 12);
+  EXPECT_EQ(finer.grid.appended.box_half_width, 4);
+  EXPECT_DOUBLE_EQ(finer.grid.appended.first_spacing, one.grid.appended.first_spacing / 1.5);
+  const Grid g = build_grid(finer);
+  const GridQuality q = measure_grid_quality(g, {"body", "upper_rudder"}, 0.0);
+  EXPECT_EQ(q.folded_cells, 0u) << q.min_corner_jacobian.block;
+  try {
+    parse_case(kAppendedCase, "appended.toml", ".", {"grid.scale=0"});
+    FAIL() << "accepted a zero scale";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("grid.scale"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace narwhal
