@@ -395,6 +395,9 @@ AppendedSuboffSpec scaled(const AppendedSuboffSpec& spec, Real scale) {
                  &s.cells_span, &s.cells_outer, &s.box_half_width, &s.cells_margin, &s.cells_section})
     *n = count(*n);
   s.box_half_width = std::min(s.box_half_width, 4 * (s.cells_around / 8));
+  // An O of 8 cells (4 in its outer half) diverged on the quarter of the 9.4 M grid where
+  // 12 ran (mesh/DESIGN.md, "Appendage boxes").
+  s.cells_section = std::max(s.cells_section, std::min(spec.cells_section, 12));
   for (Real* h : {&s.first_spacing, &s.fin_spacing, &s.tip_spacing, &s.leading_edge_spacing, &s.trailing_edge_spacing,
                   &s.pole_spacing, &s.section_edge_spacing})
     *h /= scale;

@@ -323,11 +323,12 @@ TEST(AppendedSuboffFamily, MembersScaleCountsInFoursAndSpacingsInverse) {
                                           {base.cells_middle, s.cells_middle}, {base.cells_fin, s.cells_fin},
                                           {base.cells_stern, s.cells_stern},   {base.cells_around, s.cells_around},
                                           {base.cells_span, s.cells_span},     {base.cells_outer, s.cells_outer},
-                                          {base.cells_margin, s.cells_margin}, {base.cells_section, s.cells_section}};
+                                          {base.cells_margin, s.cells_margin}};
     for (const auto& [n, m] : counts) {
       EXPECT_EQ(m % 4, 0) << n << " at scale " << scale;
       EXPECT_LE(std::abs(m - n * scale), 2.0) << n << " at scale " << scale;
     }
+    EXPECT_EQ(s.cells_section, std::max(12, static_cast<int>(std::lround(base.cells_section * scale))));
     EXPECT_EQ(s.box_half_width % 4, 0);
     EXPECT_LE(2 * s.box_half_width, s.cells_around);
     EXPECT_DOUBLE_EQ(s.first_spacing, base.first_spacing / scale);
