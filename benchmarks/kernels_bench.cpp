@@ -132,6 +132,17 @@ void BM_SgsSweepPairPerCell(benchmark::State& st) {
 }
 BENCHMARK(BM_SgsSweepPairPerCell)->Unit(benchmark::kMillisecond);
 
+// The check of every correction (NewtonSolver::relax_and_update): R + A dQ over all cells,
+// to set beside a sweep pair's cost.
+void BM_LinearResidualCheckPerCell(benchmark::State& st) {
+  Plate p({}, false);
+  NewtonSolver s(p.g, p.f, p.fp, p.c.solver.newton);
+  for (int i = 0; i < 10; ++i) s.iterate();
+  for (auto _ : st) benchmark::DoNotOptimize(s.linear_residual_ratio_collective(1.0));
+  st.SetItemsProcessed(st.iterations() * p.g.cells());
+}
+BENCHMARK(BM_LinearResidualCheckPerCell)->Unit(benchmark::kMillisecond);
+
 // The 2x finer plate (32768 cells): the block matrices (~32 MB) no longer fit in
 // cache, so this sweep is the one compared with the memory-bandwidth bound.
 void BM_SgsSweepPairPerCellFine(benchmark::State& st) {

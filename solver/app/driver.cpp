@@ -87,6 +87,7 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
   if (s.force_span >= 0.0 && std::isfinite(s.force_span)) j["force_span"] = s.force_span;
   if (s.turbulence_start_ended > 0) j["turbulence_start_ended"] = s.turbulence_start_ended;
   j["cost"] = {{"seconds_per_cycle", s.seconds_per_cycle}, {"peak_bytes_per_cell", s.peak_bytes_per_cell}};
+  j["cfl_cuts"] = s.cfl_cuts;
   j["final_residual"] = {{"p", last.l2[0]}, {"u", last.l2[1]}, {"v", last.l2[2]}, {"w", last.l2[3]}};
   j["settings"] = {{"reynolds", c.flow.reynolds},
                    {"beta", c.flow.beta},
@@ -311,6 +312,7 @@ class SteadyRun {
     if (opt_.restart) {
       solver().set_reference_norm(info_.reference_norm);
       solver().set_last_cfl(info_.cfl);
+      solver().set_cfl_recovering(info_.cfl_recovering);
     }
     TurbulenceStartState restored;
     if (opt_.restart)
@@ -385,9 +387,9 @@ class SteadyRun {
                                "the last {} iterations (solver.force_tolerance {:.1e})",
                                force_steadiness_.span(), force_steadiness_.window(), force_steadiness_.tolerance());
     else if (s_.status == RunStatus::MaxIterations && s_.iterations > info_.iteration)
-      s_.message = fmt::format("not converged (mean-flow drop {:.2e}{}); largest residual at {}", s_.residual_drop,
+      s_.message = fmt::format("not converged (mean-flow drop {:.2e}{}); {}", s_.residual_drop,
                                turb_ ? fmt::format(", turbulence drop {:.2e}", monitors_.turb_drop) : std::string(),
-                               solver().describe_largest_residual());
+                               describe_slowest_equation());
     close_loop();
   }
 
@@ -559,6 +561,7 @@ class SteadyRun {
     if (opt_.progress && root_) fmt::print("\n");
     s_.wall_seconds = comm_.max(elapsed());
     s_.turbulence_start_ended = coupling_->start_state().ended_at;
+    s_.cfl_cuts = solver().cfl_cuts();
     measure_cost();
   }
 
@@ -609,9 +612,9 @@ class SteadyRun {
     return false;
   }
 
-  // Collective: the slowest equation (the largest drop against its own largest
-  // residual) and where its residual is largest.
-  std::string describe_stall(int it) {
+  // Collective: "the slowest equation is k (drop ...), its largest residual at ...": the
+  // equation with the largest drop against its own largest residual.
+  std::string describe_slowest_equation() {
     const std::array<Real, kNumEq> drops = monitors_.equation_drops();
     std::string slowest = kEquationNames[0];
     Real worst = drops[0];
@@ -633,11 +636,14 @@ class SteadyRun {
     const std::string where = turbulence_variable >= 0
                                   ? turb_->describe_largest_residual(g_, turbulence_variable, comm_)
                                   : solver().describe_largest_residual(mean_flow_equation);
-    return fmt::format(
-        "the residuals have not fallen by a factor {:g} in {} iterations (since iteration {}, drop {:.2e}); the slowest "
-        "equation is {} (drop {:.2e}), its largest residual at {}",
-        stall_.fall(), it - stall_.anchor_iteration(), stall_.anchor_iteration(), stall_.anchor(), slowest, worst,
-        where);
+    return fmt::format("the slowest equation is {} (drop {:.2e}), its largest residual at {}", slowest, worst, where);
+  }
+
+  std::string describe_stall(int it) {
+    return fmt::format("the residuals have not fallen by a factor {:g} in {} iterations (since iteration {}, drop "
+                       "{:.2e}); {}",
+                       stall_.fall(), it - stall_.anchor_iteration(), stall_.anchor_iteration(), stall_.anchor(),
+                       describe_slowest_equation());
   }
 
   void checkpoint(int it) {
@@ -645,6 +651,7 @@ class SteadyRun {
     RestartInfo r{it, solver().reference_norm(), elapsed(), {-1.0, -1.0}, flow_rate_ ? flow_rate_->magnitude() : -1.0,
                   c_.turbulence.model};
     monitors_.store(r);
+    r.cfl_recovering = solver().cfl_recovering();
     r.stall_anchor = stall_.anchor();
     r.stall_anchor_iteration = stall_.anchor_iteration();
     r.force_window = force_steadiness_.state();
@@ -707,6 +714,10 @@ class SteadyRun {
                s_.iterations, s_.residual_drop, drops, s_.wall_seconds, s_.message.empty() ? "" : ": ", s_.message);
     fmt::print("narwhal: cost {:.3g} ms per {}, peak memory {:.3g} kB per cell\n", 1e3 * s_.seconds_per_cycle,
                mg_ ? "cycle" : "iteration", s_.peak_bytes_per_cell / 1024.0);
+    if (s_.cfl_cuts > 0)
+      fmt::print("narwhal: {} correction(s) rejected and the CFL cut: the SGS sweeps diverged at the CFL of the "
+                 "moment (NewtonSolver::relax_and_update)\n",
+                 s_.cfl_cuts);
   }
 
   // Surfaces and the solution from the assembled field (checkpoint() gathered it), as a serial run.

@@ -44,6 +44,9 @@ struct RunSummary {
   // peak resident memory (all ranks together) per cell of the grid.
   Real seconds_per_cycle = 0.0;
   Real peak_bytes_per_cell = 0.0;
+  // Newton corrections of this process's run rejected on the finest level, each followed
+  // by a CFL cut (NewtonSolver::relax_and_update).
+  int cfl_cuts = 0;
 };
 
 RunSummary run_case(const CaseConfig& c, const RunOptions& opt);

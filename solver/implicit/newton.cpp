@@ -1,6 +1,7 @@
 #include "implicit/newton.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include <Eigen/LU>
 
@@ -110,22 +111,40 @@ IterationNorms NewtonSolver::norms() const {
 
 void NewtonSolver::check_finite() const {
   // States first: a non-finite state is the cause, non-finite residuals of its
-  // neighbours the consequence. Every rank learns the first failure (lowest rank).
+  // neighbours the consequence. The turbulence variables and the effective viscosity
+  // are states too: a non-finite eddy viscosity shows first in the momentum residuals.
+  // Every rank learns the first failure (lowest rank).
   std::string what;
-  for (int pass = 0; pass < 2 && what.empty(); ++pass)
+  auto first_non_finite = [&](const Block& b, auto&& value_at, int count, auto&& describe) {
+    for_each_cell(b, [&](int i, int j, int k) {
+      for (int m = 0; m < count && what.empty(); ++m)
+        if (!std::isfinite(value_at(i, j, k, m))) what = describe(m, i, j, k);
+    });
+  };
+  for (int pass = 0; pass < 4 && what.empty(); ++pass)
     for (std::size_t ib = 0; ib < g_.blocks.size() && what.empty(); ++ib) {
       if (!g_.owns(ib)) continue;
       const Block& b = g_.blocks[ib];
-      const auto& field = pass == 0 ? f_.Q[ib] : R_[ib];
-      for_each_cell(b, [&](int i, int j, int k) {
-        for (int m = 0; m < kNumEq && what.empty(); ++m) {
-          if (std::isfinite(field(i, j, k)[m])) continue;
-          what = pass == 0 ? fmt::format("non-finite {} in block '{}' cell ({}, {}, {})", kEquationNames[m], b.name, i,
-                                         j, k)
-                           : fmt::format("non-finite residual of the {} equation in block '{}' cell ({}, {}, {})",
-                                         kEquationNames[m], b.name, i, j, k);
-        }
-      });
+      auto where = [&](int i, int j, int k) { return fmt::format("in block '{}' cell ({}, {}, {})", b.name, i, j, k); };
+      if (pass == 0)
+        first_non_finite(
+            b, [&](int i, int j, int k, int m) { return f_.Q[ib](i, j, k)[m]; }, kNumEq,
+            [&](int m, int i, int j, int k) { return fmt::format("non-finite {} {}", kEquationNames[m], where(i, j, k)); });
+      else if (pass == 1 && ib < f_.turb.size() && !f_.turb[ib].raw().empty())
+        first_non_finite(
+            b, [&](int i, int j, int k, int m) { return f_.turb[ib](i, j, k)[m]; }, 2,
+            [&](int m, int i, int j, int k) {
+              return fmt::format("non-finite turbulence variable {} {}", m + 1, where(i, j, k));
+            });
+      else if (pass == 2 && ib < f_.nu.size() && !f_.nu[ib].raw().empty())
+        first_non_finite(
+            b, [&](int i, int j, int k, int) { return f_.nu[ib](i, j, k); }, 1,
+            [&](int, int i, int j, int k) { return fmt::format("non-finite effective viscosity {}", where(i, j, k)); });
+      else if (pass == 3)
+        first_non_finite(
+            b, [&](int i, int j, int k, int m) { return R_[ib](i, j, k)[m]; }, kNumEq, [&](int m, int i, int j, int k) {
+              return fmt::format("non-finite residual of the {} equation {}", kEquationNames[m], where(i, j, k));
+            });
     }
   if (g_.owner.empty()) {
     if (!what.empty()) throw DivergenceError(what);
@@ -283,7 +302,11 @@ void NewtonSolver::sweep_block(int ib, bool forward) {
 Real NewtonSolver::ser_cfl(Real norm) {
   if (ref_norm_ <= 0.0) ref_norm_ = norm;
   Real cfl = std::min(s_.cfl_max, s_.cfl_start * ref_norm_ / std::max(norm, 1e-300));
-  if (s_.cfl_growth > 0.0 && last_cfl_ > 0.0) cfl = std::min(cfl, s_.cfl_growth * last_cfl_);
+  // After a rejected correction the CFL climbs back at a bounded rate even where SER
+  // alone would jump (cfl_growth 0), or each iteration would be rejected once.
+  const Real growth = s_.cfl_growth > 0.0 ? s_.cfl_growth : (recovering_ ? kRecoveryGrowth : 0.0);
+  if (growth > 0.0 && last_cfl_ > 0.0) cfl = std::min(cfl, growth * last_cfl_);
+  if (recovering_ && cfl < growth * last_cfl_) recovering_ = false;
   last_cfl_ = cfl;
   return cfl;
 }
@@ -309,20 +332,88 @@ IterationNorms NewtonSolver::iterate_with_cfl(Real cfl, bool reuse_jacobian) {
 }
 
 IterationNorms NewtonSolver::relax_and_update(IterationNorms n, Real cfl, bool reuse_jacobian) {
-  n.cfl = cfl;
-  const bool reuse = reuse_jacobian && assembled_ && (cfl == assembled_cfl_ || stale_cfl_ok_);
-  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
-    if (!g_.owns(ib)) continue;
-    if (!reuse) assemble_block(static_cast<int>(ib), cfl);
-    dQ_[ib].fill(State::Zero());
+  // The SGS sweeps converge only for a diagonally dominant enough system; at a large
+  // CFL some cells' blocks are not (an SST start on a coarse SUBOFF grid: the nose
+  // square's corner cells at CFL 1e3), and more sweeps then amplify the correction
+  // instead of refining it. A correction whose linearized residual exceeds the nonlinear
+  // one by s_.linear_growth_limit is not applied: the CFL is cut and the system solved again.
+  bool reuse = reuse_jacobian && assembled_ && (cfl == assembled_cfl_ || stale_cfl_ok_);
+  for (int attempt = 0;; ++attempt) {
+    for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+      if (!g_.owns(ib)) continue;
+      if (!reuse) assemble_block(static_cast<int>(ib), cfl);
+      dQ_[ib].fill(State::Zero());
+    }
+    assembled_ = true;
+    assembled_cfl_ = cfl;
+    sweeps_only(s_.sgs_iterations);
+    if (!std::isfinite(cfl)) break;  // no pseudo-time term to strengthen the diagonal
+    const Real ratio = linear_residual_ratio_collective(n.total);
+    if (ratio <= s_.linear_growth_limit) break;
+    if (attempt + 1 == kMaxCflCuts)
+      throw DivergenceError(fmt::format(
+          "the linearized equations' SGS sweeps diverge (linear residual {:.2e} times the nonlinear one) even at "
+          "CFL {:.3g}, after {} cuts; largest linear residual at {}",
+          ratio, cfl, kMaxCflCuts - 1, describe_largest_linear_residual_collective()));
+    cfl *= kCflCut;
+    reuse = false;
+    ++cfl_cuts_;
+    last_cfl_ = cfl;
+    recovering_ = true;
   }
-  assembled_ = true;
-  assembled_cfl_ = cfl;
-  sweeps_only(s_.sgs_iterations);
+  n.cfl = cfl;
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib)
     if (g_.owns(ib))
       for_each_cell(g_.blocks[ib], [&](int i, int j, int k) { f_.Q[ib](i, j, k) += s_.relaxation * dQ_[ib](i, j, k); });
   return n;
+}
+
+// R + A dQ of a cell's row in §6.4's system, from the stored inverse diagonal block
+// (dQ's interface ghosts hold the neighbours' last corrections, as in the sweeps).
+State NewtonSolver::linear_residual(int ib, const Index3& c) const {
+  const Block& b = g_.blocks[ib];
+  const auto& dQ = dQ_[ib];
+  State r = R_[ib](c) + Dinv_[ib](c).inverse() * dQ(c);
+  for (int d = 0; d < 3; ++d) {
+    if (d == b.invariant_dir) continue;
+    const Index3 up = add(c, unit(d)), dn = add(c, unit(d), -1);
+    r.noalias() += AR_[ib][d](up) * dQ(up);
+    r.noalias() -= AL_[ib][d](c) * dQ(dn);
+  }
+  return r;
+}
+
+Real NewtonSolver::linear_residual_ratio_collective(Real nonlinear_total) const {
+  std::vector<Real> partial(g_.blocks.size(), 0.0);
+  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    if (!g_.owns(ib)) continue;
+    const Block& b = g_.blocks[ib];
+    for_each_cell(b, [&](int i, int j, int k) {
+      partial[ib] += (linear_residual(static_cast<int>(ib), {i, j, k}) / b.vol(i, j, k)).squaredNorm();
+    });
+  }
+  const std::vector<Real> total = sum_in_block_order(g_, std::move(partial), 1);
+  Real cells = 0.0;
+  for (const Block& b : g_.blocks) cells += static_cast<Real>(b.cells());
+  const Real linear_total = std::sqrt(total[0] / cells);
+  if (!std::isfinite(linear_total)) return std::numeric_limits<Real>::infinity();
+  return nonlinear_total > 0.0 ? linear_total / nonlinear_total : 0.0;
+}
+
+std::string NewtonSolver::describe_largest_linear_residual_collective() const {
+  Real worst = -1.0;
+  std::string where;
+  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
+    if (!g_.owns(ib)) continue;
+    const Block& b = g_.blocks[ib];
+    for_each_cell(b, [&](int i, int j, int k) {
+      const Real r = linear_residual(static_cast<int>(ib), {i, j, k}).norm() / b.vol(i, j, k);
+      if (!(r > worst)) return;
+      worst = r;
+      where = fmt::format("block '{}' cell ({}, {}, {}): |R + A dQ|/V = {:.3e}", b.name, i, j, k, r);
+    });
+  }
+  return description_of_largest(Communicator::world(), worst, std::move(where));
 }
 
 }  // namespace narwhal

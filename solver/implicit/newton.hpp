@@ -24,6 +24,12 @@ struct NewtonSettings {
   int sgs_iterations = 3;   // forward+backward pairs per Newton iteration
   Real fd_epsilon = 1e-7;   // finite-difference step of the numerical Jacobians
   Real relaxation = 1.0;    // omega_N
+  // A correction whose linearized residual |R + A dQ| exceeds |R| by this factor is
+  // rejected and the CFL cut (NewtonSolver::relax_and_update). The limit separates
+  // amplification from a poor but usable correction: healthy iterations leave 0.1-0.9
+  // of the residual, the nonlinear duct's start 1.35 (and converges), a sweep diverging
+  // at the SUBOFF nose square's corner 3e14.
+  Real linear_growth_limit = 10.0;
 };
 
 struct IterationNorms {
@@ -65,8 +71,8 @@ class NewtonSolver {
   // Allow reusing matrices assembled at another CFL (Jacobian freezing across cycles).
   void allow_stale_cfl(bool ok) { stale_cfl_ok_ = ok; }
 
-  // SER CFL for a residual norm (§6.6), its growth limited by cfl_growth; fixes the
-  // reference norm on first use.
+  // SER CFL for a residual norm (§6.6), its growth limited by cfl_growth (after a
+  // rejected correction by kRecoveryGrowth at least); fixes the reference norm on first use.
   Real ser_cfl(Real norm);
 
   // FAS forcing f (§7.2): the smoother then drives R(Q) - f to zero. nullptr: none.
@@ -84,9 +90,20 @@ class NewtonSolver {
   Real reference_norm() const { return ref_norm_; }
   void set_reference_norm(Real r) { ref_norm_ = r; }
   void set_last_cfl(Real cfl) { last_cfl_ = cfl; }
+  // Whether the CFL is regrowing after a cut (kept in restarts with the last CFL).
+  bool cfl_recovering() const { return recovering_; }
+  void set_cfl_recovering(bool r) { recovering_ = r; }
 
   // R(Q) - f of the last evaluation (cell-integrated, no ghosts).
   const std::vector<GhostArray<State>>& residual() const { return R_; }
+
+  // RMS over cells of (R + A dQ)/V for the last assembly's system and correction, over
+  // `nonlinear_total` (that of R/V): 1 for no correction, 0 for the exact one. A sum over
+  // all ranks in block order.
+  Real linear_residual_ratio_collective(Real nonlinear_total) const;
+
+  // How many times a correction was rejected and the CFL cut (relax_and_update).
+  int cfl_cuts() const { return cfl_cuts_; }
 
   // Checks every residual and state entry; throws DivergenceError naming the
   // first non-finite one.
@@ -100,6 +117,15 @@ class NewtonSolver {
   void assemble_block(int ib, Real cfl);
   void sweep_block(int ib, bool forward);
   IterationNorms norms() const;
+  State linear_residual(int ib, const Index3& c) const;
+  std::string describe_largest_linear_residual_collective() const;
+
+  // A rejected correction (NewtonSettings::linear_growth_limit) cuts the CFL by kCflCut, at most kMaxCflCuts - 1 times in one
+  // iteration (1e3 down to 0.24); the SER CFL then regrows by kRecoveryGrowth at most
+  // per iteration unless cfl_growth already limits it.
+  static constexpr Real kCflCut = 0.25;
+  static constexpr int kMaxCflCuts = 7;
+  static constexpr Real kRecoveryGrowth = 1.5;
 
   Grid& g_;
   FlowField& f_;
@@ -107,6 +133,8 @@ class NewtonSolver {
   NewtonSettings s_;
   Real ref_norm_ = -1.0;
   Real last_cfl_ = -1.0;  // < 0: none yet
+  bool recovering_ = false;  // the CFL was cut and has not yet regrown to SER's value
+  int cfl_cuts_ = 0;
   const std::vector<GhostArray<State>>* forcing_ = nullptr;
   const PhysicalTimeTerm* time_ = nullptr;
   bool assembled_ = false;

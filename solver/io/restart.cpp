@@ -251,6 +251,7 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
     if (!info.body_state.empty())  // a free body's state (motion/coupled_body.hpp)
       write_dataset(path, file, "body_state", {info.body_state.size()}, info.body_state.data());
     write_scalar_attr(path, file, "turbulence_starting", H5T_NATIVE_INT, info.turbulence_starting ? 1 : 0);
+    write_scalar_attr(path, file, "cfl_recovering", H5T_NATIVE_INT, info.cfl_recovering ? 1 : 0);
     write_scalar_attr(path, file, "turbulence_start_ended", H5T_NATIVE_INT, info.turbulence_start_ended);
     if (!info.start_window.empty()) {
       write_scalar_attr(path, file, "start_components", H5T_NATIVE_INT, info.start_components);
@@ -364,6 +365,8 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
     const hsize_t n = dataset_length(path, file, "body_state");
     read_dataset(path, file, "body_state", {n}, info.body_state);
   }
+  if (H5Aexists(file, "cfl_recovering") > 0)  // older restarts: no CFL cut
+    info.cfl_recovering = read_scalar_attr<int>(path, file, "cfl_recovering", H5T_NATIVE_INT) != 0;
   if (H5Aexists(file, "turbulence_starting") > 0) {  // older restarts: past any start
     info.turbulence_starting = read_scalar_attr<int>(path, file, "turbulence_starting", H5T_NATIVE_INT) != 0;
     info.turbulence_start_ended = read_scalar_attr<int>(path, file, "turbulence_start_ended", H5T_NATIVE_INT);

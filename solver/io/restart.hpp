@@ -32,6 +32,9 @@ struct RestartInfo {
   std::array<Real, 4> residual_reference{-1.0, -1.0, -1.0, -1.0};  // the largest so far, per equation
   Real residual_total = 0.0;
   Real cfl = 0.0;
+  // The CFL was cut after a rejected correction and is regrowing (NewtonSolver::ser_cfl).
+  // Older restarts: not.
+  bool cfl_recovering = false;
   Real residual_drop = 1.0;                  // |R| / |R_0| of the mean flow
   std::array<Real, 2> turbulence_residual{};  // the model's residuals
   Real turbulence_drop = 0.0;                 // the largest drop of the model's residuals

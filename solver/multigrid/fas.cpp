@@ -74,14 +74,16 @@ Multigrid::Multigrid(Grid& fine, FlowField& field, const FlowParams& fp, const N
 
 // `fresh`: the residual of the current state was just evaluated; the first
 // iteration reuses it instead of evaluating it again.
-void Multigrid::smooth(int l, int iterations, Real cfl, const IterationNorms* fresh, bool reuse) {
+// Returns the CFL the level accepted (lower than `cfl` when a correction was rejected).
+Real Multigrid::smooth(int l, int iterations, Real cfl, const IterationNorms* fresh, bool reuse) {
   for (int it = 0; it < iterations; ++it) {
     if (it == 0 && fresh)
-      levels_[l].solver->relax_and_update(*fresh, cfl, reuse);
+      cfl = levels_[l].solver->relax_and_update(*fresh, cfl, reuse).cfl;
     else
-      levels_[l].solver->iterate_with_cfl(cfl, reuse && it == 0);
+      cfl = levels_[l].solver->iterate_with_cfl(cfl, reuse && it == 0).cfl;
     if (l == 0 && after_fine_smoothing_) after_fine_smoothing_(cfl);
   }
+  return cfl;
 }
 
 void Multigrid::restrict_to(int l) {
@@ -167,17 +169,16 @@ void Multigrid::prolong_from(int l) {
   }
 }
 
-void Multigrid::visit(int l, Real cfl, const IterationNorms* fresh, bool frozen) {
+// Returns the CFL of the level's first smoothing (a rejected correction lowers it for the
+// rest of the cycle, coarser levels included).
+Real Multigrid::visit(int l, Real cfl, const IterationNorms* fresh, bool frozen) {
   const int last = static_cast<int>(levels_.size()) - 1;
-  if (l == last) {
-    smooth(l, l == 0 ? 1 : ms_.coarse_smooth, cfl, fresh, frozen);
-    return;
-  }
-  smooth(l, ms_.pre_smooth, cfl, fresh, frozen);
+  if (l == last) return smooth(l, l == 0 ? 1 : ms_.coarse_smooth, cfl, fresh, frozen);
+  cfl = smooth(l, ms_.pre_smooth, cfl, fresh, frozen);
   restrict_to(l + 1);
   for (int g = 0; g < ms_.gamma; ++g) visit(l + 1, cfl, nullptr, frozen);
   prolong_from(l + 1);
-  smooth(l, ms_.post_smooth, cfl, nullptr, ms_.reuse_jacobian);
+  return smooth(l, ms_.post_smooth, cfl, nullptr, ms_.reuse_jacobian);
 }
 
 void Multigrid::use_physical_time(const PhysicalTimeTerm* finest) {
@@ -209,7 +210,7 @@ IterationNorms Multigrid::run_cycle(IterationNorms n) {
   // Jacobian freezing: between reassemblies every level keeps its block matrices.
   const bool frozen = ms_.jacobian_interval > 1 && cycles_ % ms_.jacobian_interval != 0;
   for (auto& l : levels_) l.solver->allow_stale_cfl(frozen);
-  visit(0, n.cfl, &n, frozen);
+  n.cfl = visit(0, n.cfl, &n, frozen);
   ++cycles_;
   return n;
 }

@@ -70,8 +70,8 @@ class Multigrid {
   };
   IterationNorms run_cycle(IterationNorms n);
   const PhysicalTimeTerm* finest_time_ = nullptr;
-  void visit(int l, Real cfl, const IterationNorms* fresh, bool frozen);
-  void smooth(int l, int iterations, Real cfl, const IterationNorms* fresh = nullptr, bool reuse = false);
+  Real visit(int l, Real cfl, const IterationNorms* fresh, bool frozen);
+  Real smooth(int l, int iterations, Real cfl, const IterationNorms* fresh = nullptr, bool reuse = false);
   bool frozen_ = false;
   void restrict_to(int l);
   void prolong_from(int l);
