@@ -60,6 +60,25 @@ struct BoundaryFaceFlux {
     return F;
   }
 };
+// Collective over `comm`: "<label>" of the owned cell where value(ib, b, i, j, k) is
+// largest on any rank (a NaN value is never the largest).
+template <class Value, class Label>
+std::string describe_largest_cell_collective(const Grid& g, const Communicator& comm, Value&& value, Label&& label) {
+  Real worst = -1.0;
+  std::string where;
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
+    const Block& b = g.blocks[ib];
+    for_each_cell(b, [&](int i, int j, int k) {
+      const Real r = value(ib, b, i, j, k);
+      if (!(r > worst)) return;
+      worst = r;
+      where = label(b, i, j, k, r);
+    });
+  }
+  return description_of_largest(comm, worst, std::move(where));
+}
+
 }  // namespace
 
 NewtonSolver::NewtonSolver(Grid& g, FlowField& f, const FlowParams& fp, NewtonSettings s)
@@ -158,23 +177,22 @@ void NewtonSolver::check_finite() const {
 }
 
 std::string NewtonSolver::describe_largest_residual(int equation) const {
-  Real worst = -1.0;
-  std::string where;
-  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
-    if (!g_.owns(ib)) continue;
-    const Block& b = g_.blocks[ib];
-    for_each_cell(b, [&](int i, int j, int k) {
-      for (int m = 0; m < kNumEq; ++m) {
-        if (equation >= 0 && m != equation) continue;
-        const Real r = std::abs(R_[ib](i, j, k)[m]) / b.vol(i, j, k);
-        if (r <= worst) continue;
-        worst = r;
-        where = fmt::format("block '{}' cell ({}, {}, {}), {} equation: |R|/V = {:.3e}", b.name, i, j, k,
-                            kEquationNames[m], r);
-      }
-    });
-  }
-  return description_of_largest(Communicator::world(), worst, std::move(where));
+  int largest_equation = 0;  // of the cell value() looked at last
+  return describe_largest_cell_collective(
+      g_, Communicator::world(),
+      [&](std::size_t ib, const Block& b, int i, int j, int k) {
+        Real r = -1.0;
+        for (int m = 0; m < kNumEq; ++m) {
+          if (equation >= 0 && m != equation) continue;
+          const Real rm = std::abs(R_[ib](i, j, k)[m]) / b.vol(i, j, k);
+          if (rm > r) r = rm, largest_equation = m;
+        }
+        return r;
+      },
+      [&](const Block& b, int i, int j, int k, Real r) {
+        return fmt::format("block '{}' cell ({}, {}, {}), {} equation: |R|/V = {:.3e}", b.name, i, j, k,
+                           kEquationNames[largest_equation], r);
+      });
 }
 
 IterationNorms NewtonSolver::evaluate_residual() {
@@ -401,19 +419,14 @@ Real NewtonSolver::linear_residual_ratio_collective(Real nonlinear_total) const 
 }
 
 std::string NewtonSolver::describe_largest_linear_residual_collective() const {
-  Real worst = -1.0;
-  std::string where;
-  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {
-    if (!g_.owns(ib)) continue;
-    const Block& b = g_.blocks[ib];
-    for_each_cell(b, [&](int i, int j, int k) {
-      const Real r = linear_residual(static_cast<int>(ib), {i, j, k}).norm() / b.vol(i, j, k);
-      if (!(r > worst)) return;
-      worst = r;
-      where = fmt::format("block '{}' cell ({}, {}, {}): |R + A dQ|/V = {:.3e}", b.name, i, j, k, r);
-    });
-  }
-  return description_of_largest(Communicator::world(), worst, std::move(where));
+  return describe_largest_cell_collective(
+      g_, Communicator::world(),
+      [&](std::size_t ib, const Block& b, int i, int j, int k) {
+        return linear_residual(static_cast<int>(ib), {i, j, k}).norm() / b.vol(i, j, k);
+      },
+      [](const Block& b, int i, int j, int k, Real r) {
+        return fmt::format("block '{}' cell ({}, {}, {}): |R + A dQ|/V = {:.3e}", b.name, i, j, k, r);
+      });
 }
 
 }  // namespace narwhal

@@ -393,6 +393,23 @@ TEST(CflCut, ARejectedCorrectionCutsTheCflWhichRegrowsAndRestartsContinue) {
   expect_restart_reproduces_history(c, "narwhal_cfl_cut_restart", 30, 11);
 }
 
+// When no CFL makes the sweeps acceptable the run stops as diverged, naming the cell with
+// the largest linearized residual, after the cuts (here: a limit no correction meets).
+TEST(CflCut, SweepsThatNeverConvergeStopTheRunNamingTheCell) {
+  CaseConfig c = small_plate();
+  c.solver.newton.linear_growth_limit = 1e-30;
+  const fs::path dir = test::fresh_temp_dir("narwhal_cfl_cut_fail_test");
+  fs::remove_all(dir);
+  RunOptions o;
+  o.out_dir = dir.string();
+  o.max_iterations = 5;
+  const RunSummary s = run_case(c, o);
+  EXPECT_EQ(s.status, RunStatus::Diverged);
+  EXPECT_NE(s.message.find("sweeps diverge"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("after 6 cuts; largest linear residual at block 'plate' cell ("), std::string::npos)
+      << s.message;
+}
+
 // A small non-linear k-epsilon duct whose start (window 5, span 0.1) ends at cycle 12.
 CaseConfig small_duct_with_start() {
   return load_case(test::source_path("validation/cases/square_duct_turbulent/duct_nl.toml"),
