@@ -169,8 +169,8 @@ void Multigrid::prolong_from(int l) {
   }
 }
 
-// Returns the CFL of the level's first smoothing (a rejected correction lowers it for the
-// rest of the cycle, coarser levels included).
+// Returns the CFL the level's last smoothing accepted (a rejected correction lowers it for
+// the rest of the cycle, coarser levels included).
 Real Multigrid::visit(int l, Real cfl, const IterationNorms* fresh, bool frozen) {
   const int last = static_cast<int>(levels_.size()) - 1;
   if (l == last) return smooth(l, l == 0 ? 1 : ms_.coarse_smooth, cfl, fresh, frozen);
