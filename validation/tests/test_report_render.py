@@ -31,6 +31,15 @@ class Render(unittest.TestCase):
                             "flat_plate_laminar", "--rung", "poiseuille", "--narwhal", str(NARWHAL), "--reports",
                             str(cls.tmp), "--run-id", "r"], check=True, capture_output=True, timeout=900)
             cls.report = cls.tmp / "r"
+        cls.doms = {}
+
+    @classmethod
+    def dom(cls, page):
+        """The page's DOM after load: one Chromium start per page, shared by the tests (the
+        tests only read the report; starting the browser is the expensive part)."""
+        if page not in cls.doms:
+            cls.doms[page] = browser.dump_dom(page)
+        return cls.doms[page]
 
     @classmethod
     def tearDownClass(cls):
@@ -48,11 +57,11 @@ class Render(unittest.TestCase):
         self.assertGreaterEqual(len(pages), 3)
         for page in pages:
             self.assertTrue(page.exists(), f"linked page missing: {page}")
-            dom = browser.dump_dom(page)
+            dom = self.dom(page)
             self.assertIn('data-images="ok"', dom, f"{page}: images did not all load")
 
     def test_summary_shows_the_whole_ladder_with_the_steps_not_built_yet(self):
-        dom = browser.dump_dom(self.report / "index.html")
+        dom = self.dom(self.report / "index.html")
         self.assertIn("The validation ladder", dom)
         for step in load_ladder():
             self.assertIn(html.escape(step.title), dom)
@@ -60,7 +69,7 @@ class Render(unittest.TestCase):
                 self.assertIn(f"not built yet ({step.planned})", dom)
 
     def test_one_sided_checks_show_their_bound_not_a_delta(self):
-        dom = browser.dump_dom(self.report / "index.html")
+        dom = self.dom(self.report / "index.html")
         one_sided = [c for rj in self.report.glob("*/results.json") for c in json.loads(rj.read_text())["checks"]
                      if c["comparator"] in ("max", "min")]
         if not one_sided:
@@ -72,7 +81,7 @@ class Render(unittest.TestCase):
     def test_every_check_with_a_value_has_its_figure(self):
         for rj in self.report.glob("*/results.json"):
             res = json.loads(rj.read_text())
-            dom = browser.dump_dom(rj.parent / "index.html")
+            dom = self.dom(rj.parent / "index.html")
             for i, c in enumerate(res["checks"]):
                 if c.get("computed") is not None:
                     self.assertIn(f'src="check_{i}.png"', dom, f"{res['rung']}: check {i} ({c['name']}) has no figure")
