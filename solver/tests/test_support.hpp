@@ -12,6 +12,7 @@
 #include "bc/boundary.hpp"
 #include "config/case_config.hpp"
 #include "implicit/newton.hpp"
+#include "mesh/appended_suboff.hpp"
 #include "mesh/connectivity.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/setup.hpp"
@@ -130,6 +131,30 @@ inline Real relative_free_stream_residual(Grid& g) {
         }
   }
   return worst;
+}
+
+// The appended SUBOFF at 8 cells a stretch: every block of the production topology, small.
+inline AppendedSuboffSpec small_appended_spec(const std::string& configuration) {
+  AppendedSuboffSpec s;
+  s.configuration = configuration;
+  s.cells_bow = 8;
+  s.cells_sail = 8;
+  s.cells_middle = 8;
+  s.cells_fin = 8;
+  s.cells_stern = 8;
+  s.cells_around = 8;
+  s.cells_span = 8;
+  s.cells_outer = 8;
+  s.box_half_width = 2;
+  s.cells_margin = 2;
+  s.cells_section = 8;
+  s.first_spacing = 1e-4;
+  s.fin_spacing = 1e-4;
+  s.tip_spacing = 1e-3;
+  s.leading_edge_spacing = 2e-3;
+  s.trailing_edge_spacing = 2e-3;
+  s.pole_spacing = 1e-3;
+  return s;
 }
 
 // Iterate to a residual drop (or the iteration limit); returns the drop reached.

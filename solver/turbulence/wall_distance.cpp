@@ -57,9 +57,15 @@ Quad face_quad(const Block& b, int side, const Index3& c) {
   return q;
 }
 
+// A warped quadrilateral has two triangulations; the distance to the nearer of the
+// two keeps the result independent of which corner the block's indexing starts at, so
+// mirror-image grids (whose mirrored blocks number their corners the other way round)
+// get mirror-image wall distances.
 Real quad_distance(const Vec3& p, const Quad& q) {
-  return std::min(point_triangle_distance(p, q.x[0], q.x[1], q.x[2]),
-                  point_triangle_distance(p, q.x[0], q.x[2], q.x[3]));
+  return std::min(std::min(point_triangle_distance(p, q.x[0], q.x[1], q.x[2]),
+                           point_triangle_distance(p, q.x[0], q.x[2], q.x[3])),
+                  std::min(point_triangle_distance(p, q.x[0], q.x[1], q.x[3]),
+                           point_triangle_distance(p, q.x[1], q.x[2], q.x[3])));
 }
 
 // Distance from p to an axis-aligned box (0 inside).

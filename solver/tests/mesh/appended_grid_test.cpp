@@ -24,28 +24,7 @@ namespace {
 const std::vector<std::string> kAppendageLabels{"sail", "upper_rudder", "lower_rudder", "starboard_stern_plane",
                                                 "port_stern_plane"};
 
-AppendedSuboffSpec small_spec(const std::string& configuration) {
-  AppendedSuboffSpec s;
-  s.configuration = configuration;
-  s.cells_bow = 8;
-  s.cells_sail = 8;
-  s.cells_middle = 8;
-  s.cells_fin = 8;
-  s.cells_stern = 8;
-  s.cells_around = 8;
-  s.cells_span = 8;
-  s.cells_outer = 8;
-  s.box_half_width = 2;
-  s.cells_margin = 2;
-  s.cells_section = 8;
-  s.first_spacing = 1e-4;
-  s.fin_spacing = 1e-4;
-  s.tip_spacing = 1e-3;
-  s.leading_edge_spacing = 2e-3;
-  s.trailing_edge_spacing = 2e-3;
-  s.pole_spacing = 1e-3;
-  return s;
-}
+AppendedSuboffSpec small_spec(const std::string& configuration) { return test::small_appended_spec(configuration); }
 
 Grid finalized(const AppendedSuboffSpec& s) {
   Grid g = make_appended_suboff(s);
