@@ -1,8 +1,11 @@
 #pragma once
 // Wall distance (NUMERICS §2.6) for multiblock grids: for every cell centre the
 // exact distance to the nearest no-slip wall face of any block, each quadrilateral
-// face taken as the two triangles of its corner nodes, and the index of that face
-// (for u_tau and y+).
+// face taken as the nearer of its two triangulations, and the index of that face
+// (for u_tau and y+). §2.6 asks for the distance to face centroids, which is too large
+// between centroids by up to half a wall face's width. Both triangulations,
+// because a block's mirror image numbers its corners the other way round: with one, the
+// distances of mirror cells differed by the faces' warp.
 //
 // Search: wall faces are binned in a uniform grid of buckets; a cell visits the
 // bucket shells around it in order of distance and stops once the next shell is
