@@ -83,6 +83,11 @@ def mpi_environment():
     return env
 
 
+def ranks_needed(rung, tier, ranks=1):
+    """The most MPI ranks any of the rung's runs in `tier` uses (`ranks` for those that set none)."""
+    return max([r.ranks or ranks for r in rung.runs if tier in r.tiers], default=1)
+
+
 def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -91,7 +96,7 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
               "provenance": {"git_sha": git_sha(root), "machine": platform.node(), "platform": platform.platform(),
                              "python": platform.python_version()}}
     runs = _ordered([r for r in rung.runs if tier in r.tiers])
-    most_ranks = max([r.ranks or ranks for r in runs], default=1)
+    most_ranks = ranks_needed(rung, tier, ranks)
     if most_ranks > 1 and not built_with_mpi(str(narwhal)):
         # Not a failure of the rung: this build cannot run it at all.
         result.update(status="skipped", message=f"needs {most_ranks} MPI ranks, but {narwhal} was built without MPI "
