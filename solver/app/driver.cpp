@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 
 #include <fmt/format.h>
@@ -88,6 +89,7 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
   if (s.turbulence_start_ended > 0) j["turbulence_start_ended"] = s.turbulence_start_ended;
   j["cost"] = {{"seconds_per_cycle", s.seconds_per_cycle}, {"peak_bytes_per_cell", s.peak_bytes_per_cell}};
   j["cfl_cuts"] = s.cfl_cuts;
+  j["cfl_ceiling_cuts"] = s.cfl_ceiling_cuts;
   j["final_residual"] = {{"p", last.l2[0]}, {"u", last.l2[1]}, {"v", last.l2[2]}, {"w", last.l2[3]}};
   j["settings"] = {{"reynolds", c.flow.reynolds},
                    {"beta", c.flow.beta},
@@ -148,6 +150,10 @@ using Clock = std::chrono::steady_clock;
 struct Monitors {
   IterationNorms last;           // mean-flow residual norms of the latest iteration
   Real drop = 1.0;               // |R| / |R_0| of the mean flow
+  // The lowest `drop` has been in this process's run: a resumed run measures regrowth
+  // from where it resumed, so a restart into other conditions (another drift angle)
+  // starts afresh rather than counting its first residual as a regrowth.
+  Real lowest_drop = std::numeric_limits<Real>::infinity();
   // The largest residual each equation has had: its reference for the per-equation drop
   // (the first residual can be zero, as continuity's is from a uniform start).
   std::array<Real, kNumEq> reference_l2{-1.0, -1.0, -1.0, -1.0};
@@ -161,6 +167,7 @@ struct Monitors {
   void take_mean_flow(const IterationNorms& n, Real reference_norm) {
     last = n;
     drop = n.total / reference_norm;
+    lowest_drop = std::min(lowest_drop, drop);
     for (int m = 0; m < kNumEq; ++m) reference_l2[m] = std::max(reference_l2[m], n.l2[m]);
   }
   std::array<Real, kNumEq> equation_drops() const {
@@ -313,6 +320,7 @@ class SteadyRun {
       solver().set_reference_norm(info_.reference_norm);
       solver().set_last_cfl(info_.cfl);
       solver().set_cfl_recovering(info_.cfl_recovering);
+      solver().rise_guard().restore(info_.cfl_rise_guard);
     }
     TurbulenceStartState restored;
     if (opt_.restart)
@@ -562,6 +570,7 @@ class SteadyRun {
     s_.wall_seconds = comm_.max(elapsed());
     s_.turbulence_start_ended = coupling_->start_state().ended_at;
     s_.cfl_cuts = solver().cfl_cuts();
+    s_.cfl_ceiling_cuts = solver().rise_guard().cuts();
     measure_cost();
   }
 
@@ -598,6 +607,14 @@ class SteadyRun {
       s_.status = RunStatus::Diverged;
       s_.message = fmt::format("iteration {}: residual grew by {:.2e} (limit {:.1e}); largest at {}", it,
                                monitors_.drop, c_.solver.divergence_factor, solver().describe_largest_residual());
+      return true;
+    }
+    if (monitors_.drop > c_.solver.regrowth_factor * monitors_.lowest_drop) {
+      s_.status = RunStatus::Diverged;
+      s_.message = fmt::format("iteration {}: residual grew by {:.2e} above its lowest ({:.2e} of its start; "
+                               "solver.regrowth_factor {:.1e}); largest at {}",
+                               it, monitors_.drop / monitors_.lowest_drop, monitors_.lowest_drop,
+                               c_.solver.regrowth_factor, solver().describe_largest_residual());
       return true;
     }
     if (converged()) {
@@ -652,6 +669,7 @@ class SteadyRun {
                   c_.turbulence.model};
     monitors_.store(r);
     r.cfl_recovering = solver().cfl_recovering();
+    r.cfl_rise_guard = solver().rise_guard().state();
     r.stall_anchor = stall_.anchor();
     r.stall_anchor_iteration = stall_.anchor_iteration();
     r.force_window = force_steadiness_.state();
@@ -718,6 +736,10 @@ class SteadyRun {
       fmt::print("narwhal: {} correction(s) rejected and the CFL cut: the SGS sweeps diverged at the CFL of the "
                  "moment (NewtonSolver::relax_and_update)\n",
                  s_.cfl_cuts);
+    if (s_.cfl_ceiling_cuts > 0)
+      fmt::print("narwhal: the residual rose in successive iterations {} time(s); the CFL ceiling is now {:.3g} "
+                 "(implicit/cfl_rise_guard.hpp)\n",
+                 s_.cfl_ceiling_cuts, solver().rise_guard().ceiling());
   }
 
   // Surfaces and the solution from the assembled field (checkpoint() gathered it), as a serial run.

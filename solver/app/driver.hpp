@@ -47,6 +47,7 @@ struct RunSummary {
   // Newton corrections of this process's run rejected on the finest level, each followed
   // by a CFL cut (NewtonSolver::relax_and_update).
   int cfl_cuts = 0;
+  int cfl_ceiling_cuts = 0;  // sustained residual rises that lowered the CFL ceiling (implicit/cfl_rise_guard.hpp)
 };
 
 RunSummary run_case(const CaseConfig& c, const RunOptions& opt);

@@ -492,6 +492,8 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                                 Range::open(0, 1));
   s.divergence_factor = r.number_or("solver.divergence_factor", s.divergence_factor,
                                     "the residual growth that counts as divergence", Range::above(1));
+  s.regrowth_factor = r.number_or("solver.regrowth_factor", s.regrowth_factor,
+                                  "the growth above its lowest value that counts as divergence", Range::above(1));
   s.stall_window = r.integer_or("solver.stall_window", s.stall_window,
                                 "iterations without a fall by stall_factor that end a run as stalled (0: never)",
                                 Range::between(0, 1e9));

@@ -59,6 +59,11 @@ struct SolverConfig {
   int max_iterations = 1000;
   Real residual_drop = 1e-10;      // converged when |R| / |R_0| falls below
   Real divergence_factor = 1e4;    // diverged when |R| / |R_0| exceeds
+  // Diverged, too, when |R| exceeds the lowest it has been in this run by this factor: a
+  // run whose residual had fallen 1e4-fold can otherwise regrow 1e8-fold, its state long
+  // ruined, before divergence_factor notices. The converging ladder runs regrow at most 245-fold
+  // (a turbulent duct's start).
+  Real regrowth_factor = 1e3;
   // Stalled when the convergence measure has not fallen by stall_factor for
   // stall_window iterations (app/stall_detector.hpp; 0: never). 1000: well above the
   // longest such stretch of a ladder run that went on to converge (turbulence/DESIGN.md,

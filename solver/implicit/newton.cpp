@@ -82,7 +82,7 @@ std::string describe_largest_cell_collective(const Grid& g, const Communicator& 
 }  // namespace
 
 NewtonSolver::NewtonSolver(Grid& g, FlowField& f, const FlowParams& fp, NewtonSettings s)
-    : g_(g), f_(f), fp_(fp), s_(s) {
+    : g_(g), f_(f), fp_(fp), s_(s), guard_(s.rise_limit) {
   const std::size_t nb = g.blocks.size();
   R_.resize(nb);
   dQ_.resize(nb);
@@ -319,12 +319,14 @@ void NewtonSolver::sweep_block(int ib, bool forward) {
 
 Real NewtonSolver::ser_cfl(Real norm) {
   if (ref_norm_ <= 0.0) ref_norm_ = norm;
-  Real cfl = std::min(s_.cfl_max, s_.cfl_start * ref_norm_ / std::max(norm, 1e-300));
+  guard_.observe(norm, last_cfl_, s_.cfl_start);
+  Real cfl = std::min({s_.cfl_max, guard_.ceiling(), s_.cfl_start * ref_norm_ / std::max(norm, 1e-300)});
   // After a rejected correction the CFL climbs back at a bounded rate even where SER
   // alone would jump (cfl_growth 0), or each iteration would be rejected once.
   const Real growth = s_.cfl_growth > 0.0 ? s_.cfl_growth : (recovering_ ? kRecoveryGrowth : 0.0);
   if (growth > 0.0 && last_cfl_ > 0.0) cfl = std::min(cfl, growth * last_cfl_);
   if (recovering_ && cfl < growth * last_cfl_) recovering_ = false;
+  if (cfl >= std::min(s_.cfl_max, guard_.ceiling())) guard_.arm();
   last_cfl_ = cfl;
   return cfl;
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "implicit/cfl_rise_guard.hpp"
 #include "implicit/physical_time.hpp"
 #include "mesh/block.hpp"
 #include "physics/flow.hpp"
@@ -30,6 +31,8 @@ struct NewtonSettings {
   // of the residual, the nonlinear duct's start 1.35 (and converges), a sweep diverging
   // at the SUBOFF nose square's corner 3e14.
   Real linear_growth_limit = 10.0;
+  // A sustained residual rise beyond this lowers the CFL's ceiling (implicit/cfl_rise_guard.hpp).
+  Real rise_limit = CflRiseGuard::kDefaultRiseLimit;
 };
 
 struct IterationNorms {
@@ -72,7 +75,8 @@ class NewtonSolver {
   void allow_stale_cfl(bool ok) { stale_cfl_ok_ = ok; }
 
   // SER CFL for a residual norm (§6.6), its growth limited by cfl_growth (after a
-  // rejected correction by kRecoveryGrowth at least); fixes the reference norm on first use.
+  // rejected correction by kRecoveryGrowth at least), under the rise guard's ceiling;
+  // fixes the reference norm on first use.
   Real ser_cfl(Real norm);
 
   // FAS forcing f (§7.2): the smoother then drives R(Q) - f to zero. nullptr: none.
@@ -93,6 +97,9 @@ class NewtonSolver {
   // Whether the CFL is regrowing after a cut (kept in restarts with the last CFL).
   bool cfl_recovering() const { return recovering_; }
   void set_cfl_recovering(bool r) { recovering_ = r; }
+  // The CFL ceiling that sustained residual rises lower (ser_cfl; kept in restarts).
+  const CflRiseGuard& rise_guard() const { return guard_; }
+  CflRiseGuard& rise_guard() { return guard_; }
 
   // R(Q) - f of the last evaluation (cell-integrated, no ghosts).
   const std::vector<GhostArray<State>>& residual() const { return R_; }
@@ -135,6 +142,7 @@ class NewtonSolver {
   Real last_cfl_ = -1.0;  // < 0: none yet
   bool recovering_ = false;  // the CFL was cut and has not yet regrown to SER's value
   int cfl_cuts_ = 0;
+  CflRiseGuard guard_;
   const std::vector<GhostArray<State>>* forcing_ = nullptr;
   const PhysicalTimeTerm* time_ = nullptr;
   bool assembled_ = false;

@@ -252,6 +252,9 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
       write_dataset(path, file, "body_state", {info.body_state.size()}, info.body_state.data());
     write_scalar_attr(path, file, "turbulence_starting", H5T_NATIVE_INT, info.turbulence_starting ? 1 : 0);
     write_scalar_attr(path, file, "cfl_recovering", H5T_NATIVE_INT, info.cfl_recovering ? 1 : 0);
+    const std::array<double, 4> guard{info.cfl_rise_guard.ceiling, info.cfl_rise_guard.recent[0],
+                                      info.cfl_rise_guard.recent[1], info.cfl_rise_guard.armed ? 1.0 : 0.0};
+    write_dataset(path, file, "cfl_rise_guard", {guard.size()}, guard.data());
     write_scalar_attr(path, file, "turbulence_start_ended", H5T_NATIVE_INT, info.turbulence_start_ended);
     if (!info.start_window.empty()) {
       write_scalar_attr(path, file, "start_components", H5T_NATIVE_INT, info.start_components);
@@ -367,6 +370,13 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
   }
   if (H5Aexists(file, "cfl_recovering") > 0)  // older restarts: no CFL cut
     info.cfl_recovering = read_scalar_attr<int>(path, file, "cfl_recovering", H5T_NATIVE_INT) != 0;
+  if (H5Lexists(file, "cfl_rise_guard", H5P_DEFAULT) > 0) {  // older restarts: no ceiling
+    std::vector<Real> guard;
+    read_dataset(path, file, "cfl_rise_guard", {4}, guard);
+    info.cfl_rise_guard.ceiling = guard[0];
+    info.cfl_rise_guard.recent = {guard[1], guard[2]};
+    info.cfl_rise_guard.armed = guard[3] != 0.0;
+  }
   if (H5Aexists(file, "turbulence_starting") > 0) {  // older restarts: past any start
     info.turbulence_starting = read_scalar_attr<int>(path, file, "turbulence_starting", H5T_NATIVE_INT) != 0;
     info.turbulence_start_ended = read_scalar_attr<int>(path, file, "turbulence_start_ended", H5T_NATIVE_INT);

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "implicit/cfl_rise_guard.hpp"
 #include "mesh/block.hpp"
 #include "physics/flow.hpp"
 
@@ -35,6 +36,9 @@ struct RestartInfo {
   // The CFL was cut after a rejected correction and is regrowing (NewtonSolver::ser_cfl).
   // Older restarts: not.
   bool cfl_recovering = false;
+  // The CFL ceiling a sustained residual rise set and the last norms the rise guard
+  // watches (implicit/cfl_rise_guard.hpp); older restarts: no ceiling.
+  CflRiseGuard::State cfl_rise_guard{};
   Real residual_drop = 1.0;                  // |R| / |R_0| of the mean flow
   std::array<Real, 2> turbulence_residual{};  // the model's residuals
   Real turbulence_drop = 0.0;                 // the largest drop of the model's residuals

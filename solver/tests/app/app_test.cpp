@@ -325,18 +325,20 @@ TEST(Restart, TurbulentMultigridRunContinuesBitForBit) {
   }
 }
 
+// The CFL column of a history.csv.
+std::vector<Real> cfl_column(const fs::path& history) {
+  std::vector<Real> cfl;
+  for (const std::string& row : test::history_rows(history.string())) {
+    const auto a = row.find(','), b = row.find(',', a + 1);
+    cfl.push_back(std::stod(row.substr(a + 1, b - a - 1)));
+  }
+  return cfl;
+}
+
 // solver.cfl_growth: the SER CFL rises by at most the factor per cycle (without it, it
 // jumps), and a run resumed from a restart continues the limited ramp bit for bit.
 TEST(CflGrowth, SerCflRisesByAtMostTheFactorAndRestartsContinueTheRamp) {
   const std::string file = test::source_path("validation/cases/tmr_flat_plate/flat_plate_sst.toml");
-  auto cfl_column = [](const fs::path& history) {
-    std::vector<Real> cfl;
-    for (const std::string& row : test::history_rows(history.string())) {
-      const auto a = row.find(','), b = row.find(',', a + 1);
-      cfl.push_back(std::stod(row.substr(a + 1, b - a - 1)));
-    }
-    return cfl;
-  };
   auto largest_rise = [](const std::vector<Real>& cfl) {
     Real rise = 0.0;
     for (std::size_t i = 1; i < cfl.size(); ++i) rise = std::max(rise, cfl[i] / cfl[i - 1]);
@@ -369,6 +371,8 @@ TEST(CflCut, ARejectedCorrectionCutsTheCflWhichRegrowsAndRestartsContinue) {
   CaseConfig c = load_case(test::source_path("validation/cases/tmr_flat_plate/flat_plate_sst.toml"),
                            {"grid.coarsen=3", "solver.residual_drop=1e-15"});
   c.solver.newton.linear_growth_limit = 0.02;
+  // The rise guard off: its ceiling would hold the CFL below the later cuts.
+  c.solver.newton.rise_limit = std::numeric_limits<Real>::infinity();
   const fs::path dir = test::fresh_temp_dir("narwhal_cfl_cut_test");
   fs::remove_all(dir);
   RunOptions o;
@@ -376,11 +380,7 @@ TEST(CflCut, ARejectedCorrectionCutsTheCflWhichRegrowsAndRestartsContinue) {
   o.max_iterations = 30;
   const RunSummary s = run_case(c, o);
   EXPECT_GE(s.cfl_cuts, 1);
-  std::vector<Real> cfl;
-  for (const std::string& row : test::history_rows((dir / "run" / "history.csv").string())) {
-    const auto p = row.find(','), q = row.find(',', p + 1);
-    cfl.push_back(std::stod(row.substr(p + 1, q - p - 1)));
-  }
+  const std::vector<Real> cfl = cfl_column(dir / "run" / "history.csv");
   std::size_t first_cut = 0;
   for (std::size_t i = 1; i < cfl.size() && first_cut == 0; ++i)
     if (cfl[i] < 0.5 * cfl[i - 1]) first_cut = i;
@@ -391,6 +391,33 @@ TEST(CflCut, ARejectedCorrectionCutsTheCflWhichRegrowsAndRestartsContinue) {
   EXPECT_LE(rise, 1.5 * (1.0 + 1e-5));  // the history prints 6 significant digits
   // Resumed at cycle 11, within a regrowth (cuts at cycles 7, 10 and 12 on this build).
   expect_restart_reproduces_history(c, "narwhal_cfl_cut_restart", 30, 11);
+}
+
+// Once the CFL has reached its cap, a residual that rises in two successive iterations
+// lowers the CFL's ceiling (implicit/cfl_rise_guard.hpp), which then holds; a run resumed
+// between the two rises sees the same rise (the guard's state is in the restart). The
+// same plate as above, its CFL capped at 2e3: with the low linear limit its residual
+// rises over cycles 7-9.
+TEST(CflRiseGuard, ASustainedRiseLowersTheCeilingWhichHoldsAndRestartsContinue) {
+  CaseConfig c = load_case(test::source_path("validation/cases/tmr_flat_plate/flat_plate_sst.toml"),
+                           {"grid.coarsen=3", "solver.residual_drop=1e-15", "solver.cfl_max=2e3"});
+  c.solver.newton.linear_growth_limit = 0.02;
+  const fs::path dir = test::fresh_temp_dir("narwhal_rise_guard_test");
+  fs::remove_all(dir);
+  RunOptions o;
+  o.out_dir = (dir / "run").string();
+  o.max_iterations = 30;
+  const RunSummary s = run_case(c, o);
+  ASSERT_GE(s.cfl_ceiling_cuts, 1);
+  EXPECT_NE(slurp((dir / "run" / "run.json").string()).find(fmt::format("\"cfl_ceiling_cuts\": {}", s.cfl_ceiling_cuts)),
+            std::string::npos);
+  const std::vector<Real> cfl = cfl_column(dir / "run" / "history.csv");
+  std::size_t held_from = 0;  // the first of the iterations at the ceiling
+  for (std::size_t i = 1; i < cfl.size() && held_from == 0; ++i)
+    if (cfl[i] < cfl[i - 1] && cfl[i] == cfl.back()) held_from = i;
+  ASSERT_GT(held_from, 0u);
+  for (std::size_t i = held_from; i < cfl.size(); ++i) EXPECT_LE(cfl[i], cfl[held_from]) << "iteration " << i + 1;
+  expect_restart_reproduces_history(c, "narwhal_rise_guard_restart", 20, 8);
 }
 
 // When no CFL makes the sweeps acceptable the run stops as diverged, naming the cell with
@@ -520,6 +547,25 @@ TEST(Robustness, ResidualBlowUpNamesTheWorstCell) {
   ASSERT_EQ(s.status, RunStatus::Diverged);
   EXPECT_NE(s.message.find("block 'plate' cell ("), std::string::npos) << s.message;
   EXPECT_NE(s.message.find("equation: |R|/V ="), std::string::npos) << s.message;
+}
+
+TEST(Robustness, ResidualRegrowthAboveItsLowestStopsTheRun) {
+  // The exploding plate of DivergingRunStopsAndKeepsTheLastGoodRestart first falls to
+  // 0.17 of its start, then regrows 199-fold in three iterations, still below 1e4 of its
+  // start: a regrowth limit of 10 stops it there, naming the rule.
+  CaseConfig c = small_plate();
+  c.flow.beta = 1e-12;
+  c.solver.newton.cfl_start = 1e8;
+  c.solver.newton.cfl_max = 1e12;
+  c.solver.regrowth_factor = 10.0;
+  RunOptions o;
+  o.out_dir = (test::fresh_temp_dir("narwhal_regrowth_test")).string();
+  o.max_iterations = 50;
+  const RunSummary s = run_case(c, o);
+  ASSERT_EQ(s.status, RunStatus::Diverged) << s.message;
+  EXPECT_NE(s.message.find("above its lowest"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("block 'plate' cell ("), std::string::npos) << s.message;
+  EXPECT_LT(s.residual_drop, c.solver.divergence_factor);  // the start-relative rule would not have fired
 }
 
 // SA on the coarsest TMR level with full steps once per cycle and point relaxation
