@@ -134,6 +134,10 @@ inline Real relative_free_stream_residual(Grid& g) {
 }
 
 // The appended SUBOFF at 8 cells a stretch: every block of the production topology, small.
+// The wall labels of the appended grid's appendages (mesh/appended_suboff.hpp), the hull's being "body".
+inline const std::vector<std::string> kAppendageLabels{"sail", "upper_rudder", "lower_rudder",
+                                                       "starboard_stern_plane", "port_stern_plane"};
+
 inline AppendedSuboffSpec small_appended_spec(const std::string& configuration) {
   AppendedSuboffSpec s;
   s.configuration = configuration;

@@ -21,14 +21,9 @@
 namespace narwhal {
 namespace {
 
-const std::vector<std::string> kAppendageLabels{"sail", "upper_rudder", "lower_rudder", "starboard_stern_plane",
-                                                "port_stern_plane"};
-
-AppendedSuboffSpec small_spec(const std::string& configuration) { return test::small_appended_spec(configuration); }
-
 Grid finalized(const AppendedSuboffSpec& s) {
   Grid g = make_appended_suboff(s);
-  for (const auto& label : kAppendageLabels) assign_bc(g, label, {BcType::Dirichlet});
+  for (const auto& label : test::kAppendageLabels) assign_bc(g, label, {BcType::Dirichlet});
   assign_bc(g, "body", {BcType::Dirichlet});
   assign_bc(g, "farfield", {BcType::Dirichlet});
   finalize_grid(g);  // connects the blocks, refuses non-positive volumes
@@ -40,7 +35,7 @@ TEST(AppendedSuboff, EveryConfigurationIsWholeFacedClosedAndPreservesTheFreeStre
   // two along the wall lines; the squares in 3 x 3 x 2); each box replaces four of them by 20.
   const std::map<std::string, std::size_t> blocks{{"bare", 156}, {"sail", 172}, {"stern4", 220}, {"sail_stern4", 236}};
   for (const std::string& c : appended_suboff_configurations()) {
-    Grid g = finalized(small_spec(c));
+    Grid g = finalized(test::small_appended_spec(c));
     EXPECT_EQ(g.blocks.size(), blocks.at(c)) << c;
     // Tangential nodes 0 and 1: the caps' rings are a single cell across.
     for (const int node : {0, 1}) EXPECT_LT(test::interface_ghost_node_mismatch(g, node), 1e-12) << c;
@@ -56,7 +51,7 @@ TEST(AppendedSuboff, EveryConfigurationIsWholeFacedClosedAndPreservesTheFreeStre
 TEST(AppendedSuboff, TheUnmeshedConfigurationIsRefusedByName) {
   EXPECT_EQ(appended_suboff_configurations(), (std::vector<std::string>{"bare", "sail", "stern4", "sail_stern4"}));
   try {
-    make_appended_suboff(small_spec("full"));
+    make_appended_suboff(test::small_appended_spec("full"));
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("'full' is not meshed"), std::string::npos) << e.what();
@@ -66,7 +61,7 @@ TEST(AppendedSuboff, TheUnmeshedConfigurationIsRefusedByName) {
 // Each appendage's wall nodes lie on its surface (|n| = t(x, s) in its own plane) or on
 // its planform's edge, the hull's on the hull.
 TEST(AppendedSuboff, WallNodesLieOnTheHullAndOnTheAppendages) {
-  const AppendedSuboffSpec s = small_spec("sail_stern4");
+  const AppendedSuboffSpec s = test::small_appended_spec("sail_stern4");
   const Grid g = make_appended_suboff(s);
   const suboff::Configuration config = suboff::make_configuration("sail_stern4", {});
   const Real ft = s.length / suboff::kOverallLength;
@@ -138,8 +133,8 @@ TEST(AppendedSuboff, WallNodesLieOnTheHullAndOnTheAppendages) {
 // is exactly the hull grid's pieces its five boxes replace (two sectors' sides, inner and
 // outer, per box).
 TEST(AppendedSuboff, ConfigurationsShareTheGridAwayFromTheAppendages) {
-  const Grid bare = make_appended_suboff(small_spec("bare"));
-  const Grid full = make_appended_suboff(small_spec("sail_stern4"));
+  const Grid bare = make_appended_suboff(test::small_appended_spec("bare"));
+  const Grid full = make_appended_suboff(test::small_appended_spec("sail_stern4"));
   std::map<std::string, const Block*> in_full;
   for (const Block& b : full.blocks) in_full[b.name] = &b;
   int compared = 0, replaced = 0;
@@ -271,7 +266,7 @@ TEST(AppendedSuboff, CoarsenedGridsHaveNoFoldedCell) {
   s.cells_around /= 2, s.cells_span /= 2, s.cells_outer /= 2;
   s.box_half_width /= 2, s.cells_margin /= 2, s.cells_section /= 2;
   Grid g = make_appended_suboff(s);
-  for (const auto& label : kAppendageLabels) assign_bc(g, label, {BcType::Wall});
+  for (const auto& label : test::kAppendageLabels) assign_bc(g, label, {BcType::Wall});
   assign_bc(g, "body", {BcType::Wall});
   assign_bc(g, "farfield", {BcType::Farfield});
   finalize_grid(g);

@@ -107,8 +107,8 @@ const State kStateParity = (State() << 1.0, 1.0, -1.0, 1.0).finished();
 
 Grid appended_grid(BcType wall, BcType farfield) {
   Grid g = make_appended_suboff(test::small_appended_spec("sail_stern4"));
-  for (const char* label : {"body", "sail", "upper_rudder", "lower_rudder", "starboard_stern_plane", "port_stern_plane"})
-    assign_bc(g, label, {wall});
+  assign_bc(g, "body", {wall});
+  for (const auto& label : test::kAppendageLabels) assign_bc(g, label, {wall});
   assign_bc(g, "farfield", {farfield});
   finalize_grid(g);
   return g;
