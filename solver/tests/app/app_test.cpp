@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -363,22 +365,33 @@ TEST(CflGrowth, SerCflRisesByAtMostTheFactorAndRestartsContinueTheRamp) {
   EXPECT_GT(largest_rise(cfl), 1.19);                // the limit was what held it
 }
 
-// A correction the linearized equations call amplifying is rejected and the CFL cut
-// (NewtonSolver::relax_and_update); the CFL then regrows by at most 1.5 per cycle, and a
-// run resumed from a restart between continues it bit for bit. The limit is lowered here
-// so that the flat plate's ordinary corrections trip it (the production limit is 10).
-TEST(CflCut, ARejectedCorrectionCutsTheCflWhichRegrowsAndRestartsContinue) {
-  CaseConfig c = load_case(test::source_path("validation/cases/tmr_flat_plate/flat_plate_sst.toml"),
-                           {"grid.coarsen=3", "solver.residual_drop=1e-15"});
+// The coarsest TMR SST plate with a linear-residual limit its ordinary corrections trip
+// (the production limit is 10), and a residual target beyond reach.
+CaseConfig plate_tripping_the_linear_check(std::vector<std::string> overrides = {}) {
+  overrides.insert(overrides.begin(), {"grid.coarsen=3", "solver.residual_drop=1e-15"});
+  CaseConfig c = load_case(test::source_path("validation/cases/tmr_flat_plate/flat_plate_sst.toml"), overrides);
   c.solver.newton.linear_growth_limit = 0.02;
-  // The rise guard off: its ceiling would hold the CFL below the later cuts.
-  c.solver.newton.rise_limit = std::numeric_limits<Real>::infinity();
-  const fs::path dir = test::fresh_temp_dir("narwhal_cfl_cut_test");
+  return c;
+}
+
+// 30 iterations of `c` into dir/run (emptied first).
+RunSummary run_30_cycles(const CaseConfig& c, const fs::path& dir) {
   fs::remove_all(dir);
   RunOptions o;
   o.out_dir = (dir / "run").string();
   o.max_iterations = 30;
-  const RunSummary s = run_case(c, o);
+  return run_case(c, o);
+}
+
+// A correction the linearized equations call amplifying is rejected and the CFL cut
+// (NewtonSolver::relax_and_update); the CFL then regrows by at most 1.5 per cycle, and a
+// run resumed from a restart between continues it bit for bit.
+TEST(CflCut, ARejectedCorrectionCutsTheCflWhichRegrowsAndRestartsContinue) {
+  CaseConfig c = plate_tripping_the_linear_check();
+  // The rise guard off: its ceiling would hold the CFL below the later cuts.
+  c.solver.newton.rise_limit = std::numeric_limits<Real>::infinity();
+  const fs::path dir = test::fresh_temp_dir("narwhal_cfl_cut_test");
+  const RunSummary s = run_30_cycles(c, dir);
   EXPECT_GE(s.cfl_cuts, 1);
   const std::vector<Real> cfl = cfl_column(dir / "run" / "history.csv");
   std::size_t first_cut = 0;
@@ -399,15 +412,9 @@ TEST(CflCut, ARejectedCorrectionCutsTheCflWhichRegrowsAndRestartsContinue) {
 // same plate as above, its CFL capped at 2e3: with the low linear limit its residual
 // rises over cycles 7-9.
 TEST(CflRiseGuard, ASustainedRiseLowersTheCeilingWhichHoldsAndRestartsContinue) {
-  CaseConfig c = load_case(test::source_path("validation/cases/tmr_flat_plate/flat_plate_sst.toml"),
-                           {"grid.coarsen=3", "solver.residual_drop=1e-15", "solver.cfl_max=2e3"});
-  c.solver.newton.linear_growth_limit = 0.02;
+  const CaseConfig c = plate_tripping_the_linear_check({"solver.cfl_max=2e3"});
   const fs::path dir = test::fresh_temp_dir("narwhal_rise_guard_test");
-  fs::remove_all(dir);
-  RunOptions o;
-  o.out_dir = (dir / "run").string();
-  o.max_iterations = 30;
-  const RunSummary s = run_case(c, o);
+  const RunSummary s = run_30_cycles(c, dir);
   ASSERT_GE(s.cfl_ceiling_cuts, 1);
   EXPECT_NE(slurp((dir / "run" / "run.json").string()).find(fmt::format("\"cfl_ceiling_cuts\": {}", s.cfl_ceiling_cuts)),
             std::string::npos);
