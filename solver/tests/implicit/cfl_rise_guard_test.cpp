@@ -3,11 +3,23 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 
 #include "implicit/cfl_rise_guard.hpp"
 
 namespace narwhal {
 namespace {
+
+// Feeds `norms` to an armed `g` at CFL `cfl`: none but the last may cut; whether it did.
+bool last_cuts(CflRiseGuard& g, std::initializer_list<Real> norms, Real cfl, Real floor = 1.0) {
+  g.arm();
+  bool cut = false;
+  for (Real norm : norms) {
+    EXPECT_FALSE(cut) << "cut before the last norm";
+    cut = g.observe(norm, cfl, floor);
+  }
+  return cut;
+}
 
 TEST(CflRiseGuard, UnarmedItCutsNothing) {
   CflRiseGuard g;  // the CFL has not reached its cap: SER answers rises itself
@@ -35,25 +47,17 @@ TEST(CflRiseGuard, TwoRisesBelowTheLimitCutNothing) {
 
 TEST(CflRiseGuard, ASustainedRiseCutsTheCeilingByTheRise) {
   CflRiseGuard g;
-  g.arm();
-  EXPECT_FALSE(g.observe(38.0, 1e3, 1.0));
-  EXPECT_FALSE(g.observe(77.0, 1e3, 1.0));
-  EXPECT_TRUE(g.observe(259.0, 1e3, 1.0));  // 6.8-fold in two iterations
+  EXPECT_TRUE(last_cuts(g, {38.0, 77.0, 259.0}, 1e3));  // 6.8-fold in two iterations
   EXPECT_NEAR(g.ceiling(), 1e3 * 38.0 / 259.0, 1e-9);
   // The next cut waits for two new rises, measured from after the cut.
-  EXPECT_FALSE(g.observe(400.0, 146.7, 1.0));
-  EXPECT_FALSE(g.observe(500.0, 146.7, 1.0));
-  EXPECT_TRUE(g.observe(800.0, 146.7, 1.0));  // 2-fold: cut by half at least
+  EXPECT_TRUE(last_cuts(g, {400.0, 500.0, 800.0}, 146.7));  // 2-fold: cut by half at least
   EXPECT_NEAR(g.ceiling(), 146.7 * 0.5, 1e-9);
   EXPECT_EQ(g.cuts(), 2);
 }
 
 TEST(CflRiseGuard, AMildSustainedRiseCutsByHalfAndNeverBelowTheFloor) {
   CflRiseGuard g;
-  g.arm();
-  g.observe(1.0, 10.0, 8.0);
-  g.observe(1.3, 10.0, 8.0);
-  EXPECT_TRUE(g.observe(1.6, 10.0, 8.0));
+  EXPECT_TRUE(last_cuts(g, {1.0, 1.3, 1.6}, 10.0, 8.0));
   EXPECT_EQ(g.ceiling(), 8.0);  // half of 10 is below the floor
 }
 
@@ -66,9 +70,7 @@ TEST(CflRiseGuard, TheCeilingNeverRises) {
 
 TEST(CflRiseGuard, RestoredStateContinuesAsTheUninterruptedGuard) {
   CflRiseGuard a;
-  a.arm();
-  a.observe(1.0, 100.0, 1.0);
-  a.observe(2.0, 100.0, 1.0);
+  EXPECT_FALSE(last_cuts(a, {1.0, 2.0}, 100.0));
   CflRiseGuard b;
   b.restore(a.state());
   EXPECT_EQ(a.observe(3.0, 100.0, 1.0), b.observe(3.0, 100.0, 1.0));
