@@ -139,6 +139,31 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
       {"cap_growth", &a.cap_growth, "the height over which the cap blocks widen above the appendages' tips", a.far_field}};
   for (const Length& l : lengths)
     *l.value = r.number_or(std::string("grid.") + l.key, *l.value, l.what, Range::between(0.0, l.largest * a.length));
+  // Control surfaces, in degrees with Gertler & Hagen's signs (suboff_geometry.hpp): a
+  // positive rudder angle moves the trailing edges to port, a positive stern-plane angle down.
+  // Each is refused by name where the configuration has no such surface.
+  const suboff::Configuration geometry = suboff::make_configuration(a.configuration);
+  auto has = [&](const std::string& appendage) {
+    return std::any_of(geometry.appendages.begin(), geometry.appendages.end(),
+                       [&](const auto& p) { return p->name() == appendage; });
+  };
+  struct Deflection {
+    const char* key;
+    Real* value;
+    const char* appendage;
+    const char* what;
+  };
+  const Deflection deflections[] = {
+      {"rudder_deflection", &a.deflections.rudder, "upper_rudder", "the rudders' angle in degrees (positive: trailing edges to port)"},
+      {"stern_plane_deflection", &a.deflections.stern_planes, "starboard_stern_plane",
+       "the stern planes' angle in degrees (positive: trailing edges down)"}};
+  for (const Deflection& d : deflections) {
+    const std::string key = std::string("grid.") + d.key;
+    const Real degrees = r.number_or(key, 0.0, d.what, Range::between(-30.0, 30.0));
+    if (degrees != 0.0 && !has(d.appendage))
+      r.error(key, fmt::format("configuration '{}' has no {}", a.configuration, d.appendage));
+    *d.value = degrees * std::acos(-1.0) / 180.0;
+  }
   // Last: the counts and spacings above (y+ targets included) are the scale-1 member's.
   const Real scale = r.number_or("grid.scale", 1.0,
                                  "the member of the grid family: cell counts times it, wall, edge and pole spacings over it",

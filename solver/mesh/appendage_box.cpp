@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "mesh/grid_quality.hpp"
 #include "mesh/meridian.hpp"
 
 namespace narwhal {
@@ -136,6 +137,22 @@ struct Level {
   std::array<int, 5> split{};
 };
 
+// The core's edges as the cap ring's innermost nodes (the same chart points, mapped alike),
+// bit for bit.
+void tie_core_to_cap_ring(Level& lv) {
+  const auto& edge = lv.cap_ring.back();
+  const int around = lv.split[4];
+  const int na = static_cast<int>(lv.core.size()) - 1, nb = static_cast<int>(lv.core.front().size()) - 1;
+  for (int q = 0; q <= na; ++q) {
+    lv.core[static_cast<std::size_t>(q)].front() = edge[static_cast<std::size_t>(around - q)];
+    lv.core[static_cast<std::size_t>(q)].back() = edge[static_cast<std::size_t>(lv.split[1] + q)];
+  }
+  for (int q = 0; q <= nb; ++q) {
+    lv.core.front()[static_cast<std::size_t>(q)] = edge[static_cast<std::size_t>(q)];
+    lv.core.back()[static_cast<std::size_t>(q)] = edge[static_cast<std::size_t>(lv.split[3] - q)];
+  }
+}
+
 Level make_level(const AppendageBox& box, int k, const LevelChart& tip) {
   const suboff::Appendage& a = *box.appendage;
   const LevelChart chart = k >= tip.k ? tip : make_chart(box, k);
@@ -229,19 +246,157 @@ Level make_level(const AppendageBox& box, int k, const LevelChart& tip) {
       for (const auto& p : row) r.push_back(to_space(box, chart, k, p));
       lv.core.push_back(std::move(r));
     }
-    // The core's edges as the ring's innermost nodes (the same chart points, mapped alike).
-    const auto& edge = lv.cap_ring.back();
-    const int na = static_cast<int>(lv.core.size()) - 1, nb = static_cast<int>(lv.core.front().size()) - 1;
-    for (int q = 0; q <= na; ++q) {
-      lv.core[static_cast<std::size_t>(q)].front() = edge[static_cast<std::size_t>(around - q)];
-      lv.core[static_cast<std::size_t>(q)].back() = edge[static_cast<std::size_t>(o.split[1] + q)];
-    }
-    for (int q = 0; q <= nb; ++q) {
-      lv.core.front()[static_cast<std::size_t>(q)] = edge[static_cast<std::size_t>(q)];
-      lv.core.back()[static_cast<std::size_t>(q)] = edge[static_cast<std::size_t>(o.split[3] - q)];
-    }
+    tie_core_to_cap_ring(lv);
   }
   return lv;
+}
+
+// ---- A deflected control surface (mesh/DESIGN.md, "Deflected control surfaces") ----
+// The box is generated about the undeflected surface, then deformed: every node turns
+// about the stock by the deflection times a weight, so that the same map can move the
+// surface during a manoeuvre. The weight is 1 on the section, through the O's wall layer
+// (its first half, where the lines leave along the normal: the wall cells turn rigidly and
+// stay orthogonal) and in the cap; it falls smoothly to 0 at the box, whose nodes (the
+// surrounding grid's) stay bit for bit, and over cap_growth above the tip.
+//
+// Turning about a stock normal to a tapering hull lifts the root off the hull. Each
+// section column therefore also slides along the turned surface (at its chord fraction)
+// by the span shift that puts its root node back on the hull, fading to nothing at the
+// tip; the rest of the root level is put back on the hull radially, that correction
+// fading over the span too.
+
+// The node weights: per level, the share of the turn (1 up to the tip level) and the height
+// fraction (0 on the hull, 1 at and above the tip) over which the root's corrections fade;
+// per O index t, the share of the turn.
+struct DeflectionWeights {
+  std::vector<Real> turn, height, ring;
+};
+
+DeflectionWeights deflection_weights(const AppendageBox& box, int levels, int cells_normal) {
+  DeflectionWeights w;
+  const Real mid = 0.5 * (box.stations.front() + box.stations.back());
+  const auto hull = box.level(mid, 0), tip = box.level(mid, box.tip_level);
+  const Real span = std::hypot(tip[0] - hull[0], tip[1] - hull[1]);
+  for (int k = 0; k <= levels; ++k) {
+    const auto p = box.level(mid, k);
+    if (k <= box.tip_level) {
+      w.turn.push_back(1.0);
+      w.height.push_back(k == box.tip_level ? 1.0 : std::hypot(p[0] - hull[0], p[1] - hull[1]) / span);
+    } else {
+      const Real rise = std::hypot(p[0] - tip[0], p[1] - tip[1]);
+      w.turn.push_back(1.0 - revolution::smoothstep(rise / box.cap_growth));
+      w.height.push_back(1.0);
+    }
+  }
+  const int layer = cells_normal / 2;
+  for (int t = 0; t <= cells_normal; ++t)
+    w.ring.push_back(t <= layer ? 1.0 : 1.0 - revolution::smoothstep(static_cast<Real>(t - layer) / (cells_normal - layer)));
+  return w;
+}
+
+// The fin in grid units: its plane's coordinates of a node, a node turned about the stock,
+// and the deflected surface's point at a chord fraction and span.
+struct TurnedFin {
+  const suboff::Fin& fin;
+  Real feet;
+  Vec3 plane(const Vec3& node) const { return fin.plane_coordinates(suboff::from_grid_axes(node / feet)); }
+  Vec3 grid(const Vec3& p) const { return suboff::to_grid_axes(p) * feet; }
+  Vec3 turn(const Vec3& node, Real angle) const {
+    const Vec3 c = plane(node);
+    return grid(fin.turned(c[0], c[1], c[2], angle));
+  }
+  Vec3 surface(Real xi, Real s, int side) const {
+    const Real x = fin.trailing_edge(s) + fin.chord(s) * (xi - 1.0);
+    return grid(fin.turned(x, s, side * fin.half_thickness(x, s), fin.deflection));
+  }
+  // How far the hull node at radius r lies outside the hull (grid units).
+  Real off_hull(const Vec3& node) const {
+    return std::hypot(node[1], node[2]) - suboff::hull_radius(node[0] / feet) * feet;
+  }
+};
+
+// The span shift (feet) that puts the turned surface's point at (xi, s, side) on the hull:
+// secant steps from no shift.
+Real root_span_shift(const TurnedFin& f, Real xi, Real s, int side) {
+  Real d0 = 0.0, g0 = f.off_hull(f.surface(xi, s, side));
+  Real d1 = g0 > 0.0 ? -1e-3 : 1e-3, g1 = f.off_hull(f.surface(xi, s + d1, side));
+  for (int it = 0; it < 40 && std::abs(g1) > 1e-14 * f.feet && g1 != g0; ++it) {
+    const Real d2 = d1 - g1 * (d1 - d0) / (g1 - g0);
+    d0 = d1, g0 = g1;
+    d1 = d2, g1 = f.off_hull(f.surface(xi, s + d1, side));
+  }
+  if (!(std::abs(g1) <= 1e-9 * f.feet))
+    fail("appendage box '{}': the deflected root at chord fraction {:.3f} does not meet the hull", f.fin.name(), xi);
+  return d1;
+}
+
+void deflect_levels(const AppendageBox& box, std::vector<Level>& lv) {
+  const suboff::Appendage& a = *box.appendage;
+  if (!a.movable || a.deflection == 0.0) return;
+  const auto* fin = dynamic_cast<const suboff::Fin*>(&a);
+  if (fin == nullptr || fin->shape().on_sail)
+    fail("appendage box '{}': only control surfaces standing on the hull can be deflected", a.name());
+  if (!(box.cap_growth > 0.0))
+    fail("appendage box '{}': a deflection needs cap_growth > 0 (the height over which the turn fades)", a.name());
+  const TurnedFin f{*fin, box.feet};
+  const int levels = static_cast<int>(lv.size()) - 1;
+  const int n = static_cast<int>(lv.front().ring.size()) - 1;
+  const std::size_t around = lv.front().ring.front().size();
+  const DeflectionWeights w = deflection_weights(box, levels, n);
+
+  // Each section column's root shift along the turned surface, from its hull node.
+  std::vector<Real> root_shift(around);
+  auto wall_coordinates = [&](const Vec3& node) {
+    const Vec3 c = f.plane(node);
+    return std::array<Real, 3>{fin->chord_fraction(c[0], c[1]), c[1], c[2] >= 0.0 ? 1.0 : -1.0};
+  };
+  for (std::size_t s = 0; s < around; ++s) {
+    const auto [xi, span, side] = wall_coordinates(lv.front().ring.front()[s]);
+    root_shift[s] = root_span_shift(f, xi, span, static_cast<int>(side));
+  }
+  // The turn, and below the tip each column's slide along the surface.
+  for (int k = 0; k <= levels; ++k) {
+    Level& l = lv[static_cast<std::size_t>(k)];
+    const Real fade = 1.0 - revolution::smoothstep(w.height[static_cast<std::size_t>(k)]);
+    std::vector<Vec3> slide(around, Vec3::Zero());
+    if (k < box.tip_level)
+      for (std::size_t s = 0; s < around; ++s) {
+        const auto [xi, span, side] = wall_coordinates(l.ring.front()[s]);
+        slide[s] = f.surface(xi, span + fade * root_shift[s], static_cast<int>(side)) -
+                   f.surface(xi, span, static_cast<int>(side));
+      }
+    for (int t = 0; t <= n; ++t) {
+      const Real weight = w.ring[static_cast<std::size_t>(t)] * w.turn[static_cast<std::size_t>(k)];
+      if (weight == 0.0) continue;
+      for (std::size_t s = 0; s < around; ++s) {
+        Vec3& node = l.ring[static_cast<std::size_t>(t)][s];
+        node = f.turn(node, weight * a.deflection) + w.ring[static_cast<std::size_t>(t)] * slide[s];
+      }
+    }
+    for (auto* nodes : {&l.cap_ring, &l.core})
+      for (auto& row : *nodes)
+        for (Vec3& node : row) node = f.turn(node, w.turn[static_cast<std::size_t>(k)] * a.deflection);
+  }
+  // The root level's nodes off the section back on the hull, radially; the same
+  // correction fades over the span.
+  for (int t = 1; t < n; ++t)
+    for (std::size_t s = 0; s < around; ++s) {
+      const Real miss = f.off_hull(lv.front().ring[static_cast<std::size_t>(t)][s]);
+      for (int k = 0; k < box.tip_level; ++k) {
+        Vec3& node = lv[static_cast<std::size_t>(k)].ring[static_cast<std::size_t>(t)][s];
+        const Real r = std::hypot(node[1], node[2]);
+        const Real to = r - miss * (1.0 - revolution::smoothstep(w.height[static_cast<std::size_t>(k)]));
+        node[1] *= to / r;
+        node[2] *= to / r;
+      }
+    }
+  // The nodes the rings and the cap share, bit for bit as make_level had them.
+  for (Level& l : lv) {
+    for (int t = 0; t < n; ++t) l.ring[static_cast<std::size_t>(t)].back() = l.ring[static_cast<std::size_t>(t)].front();
+    if (l.cap_ring.empty()) continue;
+    l.cap_ring.front() = l.ring.front();
+    tie_core_to_cap_ring(l);
+  }
 }
 
 // The signed volume of a block's middle cell (its handedness).
@@ -304,6 +459,9 @@ Block core_block(const std::vector<Level>& levels, const std::string& name, int 
   fail("appendage box: block '{}' is folded", name);
 }
 
+std::vector<Block> assemble_box_blocks(const AppendageBox& box, const std::vector<Level>& lv, const std::string& name,
+                                       const std::string& tag);
+
 }  // namespace
 
 std::vector<Block> make_appendage_box(const AppendageBox& box, const std::string& name, const std::string& tag) {
@@ -342,6 +500,28 @@ std::vector<Block> make_appendage_box(const AppendageBox& box, const std::string
         for (std::size_t b = 0; b < l.core[a].size(); ++b) lift(base.core[a][b], l.core[a][b]);
     }
   }
+  const bool deflected = box.appendage->movable && box.appendage->deflection != 0.0;
+  const std::string turned =
+      fmt::format("appendage box '{}' deflected by {:.4g} degrees", name, box.appendage->deflection * 180.0 / kPi);
+  if (deflected) {
+    // A deflection the box has no room for folds blocks: say so, with the deflection.
+    try {
+      deflect_levels(box, lv);
+      return assemble_box_blocks(box, lv, name, tag);
+    } catch (const Error& e) {
+      fail("{}: {}", turned, e.what());
+    }
+  }
+  return assemble_box_blocks(box, lv, name, tag);
+}
+
+namespace {
+
+// The box's blocks from its levels: the O's six parts from the hull to the tip and from the
+// tip to the far field, the cap's ring in the same six parts and its core in two halves.
+std::vector<Block> assemble_box_blocks(const AppendageBox& box, const std::vector<Level>& lv, const std::string& name,
+                                       const std::string& tag) {
+  const int levels = static_cast<int>(lv.size()) - 1;
   const auto& split = lv.front().split;
   const int half_front = (split[1] - split[0]) / 2, half_back = (split[3] - split[2]) / 2;
   struct Part {
@@ -383,7 +563,16 @@ std::vector<Block> make_appendage_box(const AppendageBox& box, const std::string
     add_patch(b, 5, "farfield");
     blocks.push_back(std::move(b));
   }
+  if (box.appendage->movable && box.appendage->deflection != 0.0) {
+    // A deflection the box has no room for folds cells whose volume may still be positive:
+    // the scaled corner Jacobian finds them.
+    Grid deformed;
+    deformed.blocks = blocks;
+    require_unfolded(measure_grid_quality(deformed, {}, 0.0), "the deformed box");
+  }
   return blocks;
 }
+
+}  // namespace
 
 }  // namespace narwhal

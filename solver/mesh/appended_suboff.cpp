@@ -394,7 +394,12 @@ AppendedSuboffSpec scaled(const AppendedSuboffSpec& spec, Real scale) {
   for (int* n : {&s.cells_bow, &s.cells_sail, &s.cells_middle, &s.cells_fin, &s.cells_stern, &s.cells_around,
                  &s.cells_span, &s.cells_outer, &s.box_half_width, &s.cells_margin, &s.cells_section})
     *n = count(*n);
-  s.box_half_width = std::min(s.box_half_width, 4 * (s.cells_around / 8));
+  // The boxes span the reference's fraction of a sector on every member (rounded to whole
+  // cells, not fours: at scale 0.375 fours made them a third of a sector where the others
+  // have half, too narrow for a deflected fin), so that the members stay alike.
+  s.box_half_width = std::clamp(static_cast<int>(std::lround(static_cast<Real>(s.cells_around) * spec.box_half_width /
+                                                             spec.cells_around)),
+                                1, s.cells_around / 2);
   // An O of 8 cells (4 in its outer half) diverged on the quarter of the 9.4 M grid where
   // 12 ran (mesh/DESIGN.md, "Appendage boxes").
   s.cells_section = std::max(s.cells_section, std::min(spec.cells_section, 12));
@@ -417,8 +422,7 @@ Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
   if (spec.box_half_width < 1 || 2 * spec.box_half_width > na)
     fail("appended SUBOFF grid: box_half_width ({}) must lie between 1 and half of cells_around ({})",
          spec.box_half_width, na);
-  if (spec.deflections.rudder != 0.0 || spec.deflections.stern_planes != 0.0 || spec.deflections.sail_planes != 0.0)
-    fail("appended SUBOFF grid: deflected control surfaces are not meshed yet");
+  if (spec.deflections.sail_planes != 0.0) fail("appended SUBOFF grid: the sail planes are not meshed yet");
   const auto meshed = appended_suboff_configurations();
   if (std::find(meshed.begin(), meshed.end(), spec.configuration) == meshed.end())
     fail("appended SUBOFF grid: configuration '{}' is not meshed (expected one of {})", spec.configuration,

@@ -70,8 +70,9 @@ struct AppendedSuboffSpec {
 };
 
 // A member of a grid family: every cell count times `scale`, rounded to a multiple of 4
-// (at least 4, the boxes' half width at most half the sector's, the appendages' O-grids at
-// least 12 cells deep), so that every block keeps two multigrid levels or more (4 -> 2);
+// (at least 4, the appendages' O-grids at least 12 cells deep), so that every block keeps
+// two multigrid levels or more (4 -> 2), but the boxes' half width, which keeps the
+// reference's fraction of a sector (whole cells);
 // every spacing set at the walls, edges and poles divided by `scale`, so that the family's
 // members are alike in shape (the wall cells' y+ goes as 1 / scale). The members are
 // generated, not coarsened: the family's finest grid need not be built to run its

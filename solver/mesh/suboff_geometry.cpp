@@ -34,8 +34,8 @@ Real hull_radius(Real x) {
   return 0.1175 * kMaxRadius * std::sqrt(std::max(0.0, 1.0 - u * u));
 }
 
-Vec3 Appendage::deflected(Real x, Real s, Real n) const {
-  const Real c = std::cos(deflection), sn = std::sin(deflection);
+Vec3 Appendage::turned(Real x, Real s, Real n, Real angle) const {
+  const Real c = std::cos(angle), sn = std::sin(angle);
   const Real dx = x - stock_x;
   const Real x_turned = movable ? stock_x + dx * c - n * sn : x;
   const Real n_turned = movable ? dx * sn + n * c : n;

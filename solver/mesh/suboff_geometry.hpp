@@ -32,8 +32,9 @@ inline constexpr Real kRoddyMomentCentre = 6.6042;  // aft of the nose
 // §2: the hull radius at x (zero outside [0, L_OA]).
 Real hull_radius(Real x);
 
-// SUBOFF frame -> grid axes (x aft, y port, z down).
+// SUBOFF frame -> grid axes (x aft, y port, z down), and back.
 inline Vec3 to_grid_axes(const Vec3& p) { return {p[0], p[2], -p[1]}; }
+inline Vec3 from_grid_axes(const Vec3& g) { return {g[0], -g[2], g[1]}; }
 
 class Appendage {
  public:
@@ -65,7 +66,16 @@ class Appendage {
   // the deflection applied, in the SUBOFF frame.
   Vec3 surface_point(Real x, Real s, int side) const;
   // The same point of the plane (offset n) turned about the stock.
-  Vec3 deflected(Real x, Real s, Real n) const;
+  Vec3 deflected(Real x, Real s, Real n) const { return turned(x, s, n, deflection); }
+  // The point (x, s, n) of the plane turned about the stock by `angle` (radians, the
+  // deflection's sign; a fixed appendage does not turn): a grid deformed about a
+  // deflected surface turns its nodes by fractions of the deflection.
+  Vec3 turned(Real x, Real s, Real n, Real angle) const;
+  // A point's coordinates in the undeflected plane: {x, s, n}.
+  Vec3 plane_coordinates(const Vec3& p) const {
+    const Vec3 d = p - origin;
+    return {p[0], d.dot(span_direction), d.dot(offset_direction)};
+  }
 
  protected:
   explicit Appendage(std::string name) : name_(std::move(name)) {}

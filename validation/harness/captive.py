@@ -162,3 +162,11 @@ def sweep_largest(ctx, spec, run_id):
     "force_span", how far from steady the least steady point's forces still were."""
     from .extract import run_json  # here, not at the top: extract imports this module to register it
     return max(run_json(ctx, {"field": spec.get("field")}, rid) for rid in _sweep(ctx, spec).run_ids)
+
+
+@extractor("sweep_magnitude", "sweep", "component", "groups", "length")
+def sweep_magnitude(ctx, spec, run_id):
+    """max |C| over the sweep's runs: a component that symmetry makes zero at every point
+    (a port/starboard-symmetric vehicle's side force, roll and yaw moments in pitch)."""
+    _, _, y = _points(ctx, spec, "degrees")
+    return float(np.max(np.abs(y)))

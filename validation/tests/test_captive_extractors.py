@@ -105,6 +105,11 @@ class CaptiveSweeps(unittest.TestCase):
         path.write_text(json.dumps(data))
         self.assertAlmostEqual(extract(ctx, spec), 2e-5, places=18)
 
+    def test_the_magnitude_is_the_largest_size_over_the_sweep(self):
+        spec = {"kind": "sweep_magnitude", "sweep": "drift", "component": "Y", "groups": ["body", "sail"]}
+        self.assertAlmostEqual(extract(self.context(), spec), abs(side_force(8)), places=15)
+        self.assertEqual(extract(self.context(), {**spec, "component": "Z"}), 0.0)
+
     def test_the_least_steady_point_is_found(self):
         ctx = self.context()
         self.assertAlmostEqual(extract(ctx, {"kind": "sweep_largest", "sweep": "drift", "field": "force_span"}), 9e-7,

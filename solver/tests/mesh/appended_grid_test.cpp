@@ -291,7 +291,7 @@ namespace {
 // 4, the boxes no wider than half a sector, the wall, edge and pole spacings over scale.
 TEST(AppendedSuboffFamily, MembersScaleCountsInFoursAndSpacingsInverse) {
   const AppendedSuboffSpec base;
-  for (const Real scale : {0.75, 0.5, 0.25}) {
+  for (const Real scale : {0.75, 0.5, 0.375, 0.25}) {
     const AppendedSuboffSpec s = scaled(base, scale);
     const std::pair<int, int> counts[] = {{base.cells_bow, s.cells_bow},       {base.cells_sail, s.cells_sail},
                                           {base.cells_middle, s.cells_middle}, {base.cells_fin, s.cells_fin},
@@ -303,8 +303,8 @@ TEST(AppendedSuboffFamily, MembersScaleCountsInFoursAndSpacingsInverse) {
       EXPECT_LE(std::abs(m - n * scale), 2.0) << n << " at scale " << scale;
     }
     EXPECT_EQ(s.cells_section, std::max(12, static_cast<int>(std::lround(base.cells_section * scale))));
-    EXPECT_EQ(s.box_half_width % 4, 0);
-    EXPECT_LE(2 * s.box_half_width, s.cells_around);
+    // The boxes span the reference's fraction of a sector (half of it) on every member.
+    EXPECT_EQ(s.box_half_width * base.cells_around, base.box_half_width * s.cells_around) << scale;
     EXPECT_DOUBLE_EQ(s.first_spacing, base.first_spacing / scale);
     EXPECT_DOUBLE_EQ(s.fin_spacing, base.fin_spacing / scale);
     EXPECT_DOUBLE_EQ(s.tip_spacing, base.tip_spacing / scale);
@@ -322,7 +322,7 @@ TEST(AppendedSuboffFamily, TheCaseKeyScalesTheGridItDescribes) {
   const CaseConfig one = parse_case(kAppendedCase, "appended.toml", ".");
   const CaseConfig finer = parse_case(kAppendedCase, "appended.toml", ".", {"grid.scale=1.5"});
   EXPECT_EQ(finer.grid.appended.cells_bow, 12);
-  EXPECT_EQ(finer.grid.appended.box_half_width, 4);
+  EXPECT_EQ(finer.grid.appended.box_half_width, 3);  // the case's quarter of a sector (2 of 8), of 12
   EXPECT_DOUBLE_EQ(finer.grid.appended.first_spacing, one.grid.appended.first_spacing / 1.5);
   const Grid g = build_grid(finer);
   const GridQuality q = measure_grid_quality(g, {"body", "upper_rudder"}, 0.0);
