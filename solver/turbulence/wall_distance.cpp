@@ -73,7 +73,107 @@ Real box_distance(const Vec3& p, const Vec3& lo, const Vec3& hi) {
   return (p.cwiseMax(lo).cwiseMin(hi) - p).norm();
 }
 
+// The bounding-volume hierarchy over the wall faces.
+class FaceTree {
+ public:
+  explicit FaceTree(const std::vector<Quad>& quads) : quads_(quads), order_(quads.size()) {
+    for (std::size_t f = 0; f < quads.size(); ++f) {
+      order_[f] = static_cast<int>(f);
+      centre_.push_back(0.25 * (quads[f].x[0] + quads[f].x[1] + quads[f].x[2] + quads[f].x[3]));
+    }
+    nodes_.reserve(2 * quads.size() / kLeafFaces + 2);
+    build(0, static_cast<int>(quads.size()));
+  }
+
+  // The nearest face to p and its distance; `hint`, a face likely near (or -1), is
+  // measured first. Faces as near as the best are still visited (pruning is strict), so
+  // that ties go to the lowest index.
+  std::pair<Real, int> nearest(const Vec3& p, int hint) const {
+    Real best = std::numeric_limits<Real>::infinity();
+    int best_face = -1;
+    auto visit_face = [&](int f) {
+      if (box_distance(p, quads_[static_cast<std::size_t>(f)].lo, quads_[static_cast<std::size_t>(f)].hi) > best)
+        return;
+      const Real d = quad_distance(p, quads_[static_cast<std::size_t>(f)]);
+      if (d < best || (d == best && f < best_face)) best = d, best_face = f;
+    };
+    if (hint >= 0) visit_face(hint);
+    int stack[kMaxDepth];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
+      if (box_distance(p, n.lo, n.hi) > best) continue;
+      if (n.left < 0) {
+        for (int q = n.first; q < n.first + n.count; ++q) visit_face(order_[static_cast<std::size_t>(q)]);
+        continue;
+      }
+      const Node &l = nodes_[static_cast<std::size_t>(n.left)], &r = nodes_[static_cast<std::size_t>(n.right)];
+      const Real dl = box_distance(p, l.lo, l.hi), dr = box_distance(p, r.lo, r.hi);
+      const bool left_first = dl <= dr;
+      // The nearer child on top of the stack, so it is searched first.
+      const int far = left_first ? n.right : n.left, near = left_first ? n.left : n.right;
+      if ((left_first ? dr : dl) <= best) stack[top++] = far;
+      if ((left_first ? dl : dr) <= best) stack[top++] = near;
+    }
+    return {best, best_face};
+  }
+
+ private:
+  static constexpr int kLeafFaces = 4;
+  static constexpr int kMaxDepth = 128;  // median splits: depth log2(faces / 4) + 1
+  struct Node {
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+    int left = -1, right = -1;  // children, or -1 for a leaf
+    int first = 0, count = 0;   // a leaf's faces: order_[first, first + count)
+  };
+
+  int build(int first, int count) {
+    const int id = static_cast<int>(nodes_.size());
+    nodes_.push_back({});
+    Vec3 lo = quads_[static_cast<std::size_t>(order_[static_cast<std::size_t>(first)])].lo, hi = lo;
+    Vec3 clo = centre_[static_cast<std::size_t>(order_[static_cast<std::size_t>(first)])], chi = clo;
+    for (int q = first; q < first + count; ++q) {
+      const std::size_t f = static_cast<std::size_t>(order_[static_cast<std::size_t>(q)]);
+      lo = lo.cwiseMin(quads_[f].lo);
+      hi = hi.cwiseMax(quads_[f].hi);
+      clo = clo.cwiseMin(centre_[f]);
+      chi = chi.cwiseMax(centre_[f]);
+    }
+    nodes_[static_cast<std::size_t>(id)].lo = lo;
+    nodes_[static_cast<std::size_t>(id)].hi = hi;
+    if (count <= kLeafFaces) {
+      nodes_[static_cast<std::size_t>(id)].first = first;
+      nodes_[static_cast<std::size_t>(id)].count = count;
+      return id;
+    }
+    int axis = 0;
+    (chi - clo).maxCoeff(&axis);
+    const int half = count / 2;
+    const auto begin = order_.begin() + first;
+    std::nth_element(begin, begin + half, begin + count, [&](int a, int b) {
+      const Real ca = centre_[static_cast<std::size_t>(a)][axis], cb = centre_[static_cast<std::size_t>(b)][axis];
+      return ca < cb || (ca == cb && a < b);
+    });
+    const int left = build(first, half);
+    const int right = build(first + half, count - half);
+    nodes_[static_cast<std::size_t>(id)].left = left;
+    nodes_[static_cast<std::size_t>(id)].right = right;
+    return id;
+  }
+
+  const std::vector<Quad>& quads_;
+  std::vector<int> order_;
+  std::vector<Vec3> centre_;
+  std::vector<Node> nodes_;
+};
+
 }  // namespace
+
+Real wall_face_distance(const Grid& g, const WallFaceRef& f, const Vec3& p) {
+  // face_quad puts the corners on the boundary plane whatever the cell's normal index.
+  return quad_distance(p, face_quad(g.blocks[static_cast<std::size_t>(f.block)], f.side, f.cell));
+}
 
 WallDistance compute_wall_distance(const Grid& g) {
   WallDistance w;
@@ -95,77 +195,16 @@ WallDistance compute_wall_distance(const Grid& g) {
     w.face.emplace_back(b.ni, b.nj, b.nk, 0, -1);
   }
   if (quads.empty()) return w;
-
-  // Buckets: a uniform grid over the wall faces' bounding box, about one face per
-  // bucket in each direction the walls extend in.
-  Vec3 lo = quads[0].lo, hi = quads[0].hi;
-  for (const Quad& q : quads) {
-    lo = lo.cwiseMin(q.lo);
-    hi = hi.cwiseMax(q.hi);
-  }
-  const Vec3 span = (hi - lo).cwiseMax(Vec3::Constant(1e-300));
-  const Real per_dim = std::max<Real>(1.0, std::cbrt(static_cast<Real>(quads.size())));
-  Index3 nb;
-  Vec3 h;
-  for (int m = 0; m < 3; ++m) {
-    const bool flat = span[m] < 1e-9 * span.maxCoeff();
-    nb[m] = flat ? 1 : std::clamp(static_cast<int>(std::ceil(per_dim * span[m] / span.maxCoeff() * 2.0)), 1, 256);
-    h[m] = span[m] / nb[m];
-  }
-  auto bucket_of = [&](const Vec3& x, int m) {
-    return std::clamp(static_cast<int>(std::floor((x[m] - lo[m]) / h[m])), 0, nb[m] - 1);
-  };
-  std::vector<std::vector<int>> buckets(static_cast<std::size_t>(nb[0]) * nb[1] * nb[2]);
-  auto bucket_index = [&](int i, int j, int k) { return (static_cast<std::size_t>(k) * nb[1] + j) * nb[0] + i; };
-  for (std::size_t f = 0; f < quads.size(); ++f) {
-    const Vec3 c = 0.25 * (quads[f].x[0] + quads[f].x[1] + quads[f].x[2] + quads[f].x[3]);
-    buckets[bucket_index(bucket_of(c, 0), bucket_of(c, 1), bucket_of(c, 2))].push_back(static_cast<int>(f));
-  }
-  // A face may stick out of its bucket by up to its own size: pad the bucket boxes.
-  Vec3 pad = Vec3::Zero();
-  for (const Quad& q : quads) pad = pad.cwiseMax(q.hi - q.lo);
-  const Real pad_norm = pad.norm();
-  Real h_active = inf;
-  for (int m = 0; m < 3; ++m)
-    if (nb[m] > 1) h_active = std::min(h_active, h[m]);
-  if (!(h_active < inf)) h_active = 0.0;  // a single bucket: the first shell holds every face
-
+  const FaceTree tree(quads);
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
     const Block& b = g.blocks[ib];
+    int hint = -1;  // the previous cell's face: the neighbour's along i, mostly
     for_each_cell(b, [&](int i, int j, int k) {
-      const Vec3 p = b.xc(i, j, k);
-      Real best = inf;
-      int best_face = -1;
-      const Index3 home{bucket_of(p, 0), bucket_of(p, 1), bucket_of(p, 2)};
-      const int max_shell = std::max({nb[0], nb[1], nb[2]});
-      for (int s = 0; s <= max_shell; ++s) {
-        // Every bucket of shell s or beyond lies at least (s - 1) buckets away
-        // along an axis the walls extend in; its faces stick out by at most |pad|.
-        if (s > 1 && (s - 1) * h_active - pad_norm >= best) break;
-        Index3 from, to;
-        for (int m = 0; m < 3; ++m) {
-          from[m] = std::max(0, home[m] - s);
-          to[m] = std::min(nb[m] - 1, home[m] + s);
-        }
-        for (int bk = from[2]; bk <= to[2]; ++bk)
-          for (int bj = from[1]; bj <= to[1]; ++bj)
-            for (int bi = from[0]; bi <= to[0]; ++bi) {
-              if (std::max({std::abs(bi - home[0]), std::abs(bj - home[1]), std::abs(bk - home[2])}) != s) continue;
-              const Vec3 blo = lo + Vec3(bi * h[0], bj * h[1], bk * h[2]) - pad;
-              const Vec3 bhi = lo + Vec3((bi + 1) * h[0], (bj + 1) * h[1], (bk + 1) * h[2]) + pad;
-              if (box_distance(p, blo, bhi) >= best) continue;
-              for (int f : buckets[bucket_index(bi, bj, bk)]) {
-                if (box_distance(p, quads[f].lo, quads[f].hi) >= best) continue;
-                const Real df = quad_distance(p, quads[f]);
-                if (df < best) {
-                  best = df;
-                  best_face = f;
-                }
-              }
-            }
-      }
-      w.d[ib](i, j, k) = best;
-      w.face[ib](i, j, k) = best_face;
+      const auto [d, face] = tree.nearest(b.xc(i, j, k), hint);
+      w.d[ib](i, j, k) = d;
+      w.face[ib](i, j, k) = face;
+      hint = face;
     });
   }
   return w;

@@ -7,11 +7,13 @@
 // because a block's mirror image numbers its corners the other way round: with one, the
 // distances of mirror cells differed by the faces' warp.
 //
-// Search: wall faces are binned in a uniform grid of buckets; a cell visits the
-// bucket shells around it in order of distance and stops once the next shell is
-// farther than the best face found, so the cost grows like cells x (faces near
-// the cell) rather than cells x all wall faces. Computed once per grid; grids that
-// move relative to their walls call it again.
+// Search: a bounding-volume hierarchy over the wall faces (median splits along the longest
+// axis, a few faces a leaf), nearer child first, pruned by the distance to each box; each
+// cell starts from its neighbour's nearest face, which bounds the search at once. Ties (a
+// cell nearest to an edge two faces share) go to the lowest face index whatever the search
+// order, so the face behind u_tau is the brute force's. Only the blocks the grid's rank
+// owns are measured (the others keep +inf and -1): nothing reads them there. Computed once
+// per grid; grids that move relative to their walls call it again.
 #include <vector>
 
 #include "fields/ghost_array.hpp"
@@ -32,6 +34,10 @@ struct WallDistance {
 };
 
 WallDistance compute_wall_distance(const Grid& g);
+
+// The distance from p to wall face f of g (the nearer of its two triangulations): the
+// search's measure, for checking it.
+Real wall_face_distance(const Grid& g, const WallFaceRef& f, const Vec3& p);
 
 // Exact distance from p to the triangle (a, b, c).
 Real point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);

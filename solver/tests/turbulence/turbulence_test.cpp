@@ -8,7 +8,9 @@
 #include <random>
 
 #include "app/driver.hpp"
+#include "mesh/appended_suboff.hpp"
 #include "mesh/ghost_sweep.hpp"
+#include "mesh/setup.hpp"
 #include "test_support.hpp"
 #include "turbulence/baldwin_lomax.hpp"
 #include "turbulence/launder_sharma.hpp"
@@ -67,31 +69,67 @@ TEST(WallDistance, FlatPlateIsExactOnOneAndOnFourBlocks) {
   expect_plate_distances({"grid.coarsen=3", "grid.split=[2, 2, 1]", "grid.split_rotate=true"});
 }
 
-TEST(WallDistance, BucketSearchEqualsBruteForce) {
+// The tree search against brute force over every wall face: the same distance and the same
+// face, ties to the lowest index (every cell of the grid, or every `stride`-th).
+void expect_brute_force(const Grid& g, int stride) {
+  const WallDistance w = compute_wall_distance(g);
+  ASSERT_TRUE(w.any_wall());
+  int compared = 0, differ = 0;
+  long long counter = 0;
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+    for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
+      if (counter++ % stride != 0) return;
+      const Vec3 x = g.blocks[ib].xc(i, j, k);
+      Real brute = std::numeric_limits<Real>::infinity();
+      int face = -1;
+      for (std::size_t f = 0; f < w.faces.size(); ++f) {
+        const Real d = wall_face_distance(g, w.faces[f], x);
+        if (d < brute) brute = d, face = static_cast<int>(f);
+      }
+      ++compared;
+      differ += w.d[ib](i, j, k) != brute || w.face[ib](i, j, k) != face;
+    });
+  EXPECT_GT(compared, 100);
+  EXPECT_EQ(differ, 0) << "of " << compared << " cells";
+}
+
+TEST(WallDistance, TreeSearchEqualsBruteForce) {
   Grid g;
   Block b = make_perturbed_box("box", 10, 0.05);
   randomly_perturb(b, 0.2, 11, false);
   g.blocks.push_back(std::move(b));
   for (auto& p : g.blocks[0].patches) p.type = (p.side == 2 || p.side == 1) ? BcType::Wall : BcType::Farfield;
   finalize_grid(g);
-  const WallDistance w = compute_wall_distance(g);
-  const Block& bb = g.blocks[0];
-  Real worst = 0.0;
-  for_each_cell(bb, [&](int i, int j, int k) {
-    const Vec3 x = bb.xc(i, j, k);
-    Real brute = 1e300;
-    for (const WallFaceRef& f : w.faces) {
-      // Corner nodes of that face, in order, as the two triangles of its quad.
-      const int d = side_dir(f.side), t1 = (d + 1) % 3, t2 = (d + 2) % 3;
-      Index3 n = f.cell;
-      n[d] = side_high(f.side) ? bb.n(d) : 0;
-      const Vec3 a = bb.x(n), b1 = bb.x(add(n, unit(t1))), c1 = bb.x(add(add(n, unit(t1)), unit(t2))),
-                 d1 = bb.x(add(n, unit(t2)));
-      brute = std::min({brute, point_triangle_distance(x, a, b1, c1), point_triangle_distance(x, a, c1, d1)});
-    }
-    worst = std::max(worst, std::abs(w.d[0](i, j, k) - brute));
-  });
-  EXPECT_LE(worst, 1e-14);
+  expect_brute_force(g, 1);
+}
+
+// Many blocks, curved and warped walls, faces sharing edges at the appendages' junctions.
+TEST(WallDistance, TreeSearchEqualsBruteForceAboutTheAppendedHull) {
+  Grid g = make_appended_suboff(test::small_appended_spec("sail_stern4"));
+  for (const auto& label : test::kAppendageLabels) assign_bc(g, label, {BcType::Wall});
+  assign_bc(g, "body", {BcType::Wall});
+  assign_bc(g, "farfield", {BcType::Farfield});
+  finalize_grid(g);
+  expect_brute_force(g, 13);
+}
+
+// On a rank, only the blocks it owns are measured; those it owns get the serial answer.
+TEST(WallDistance, OnlyOwnedBlocksAreMeasured) {
+  const CaseConfig c = load_case(test::source_path(kTmrCase), {"grid.coarsen=3", "grid.split=[2, 2, 1]"});
+  Grid g = build_grid(c);
+  const WallDistance all = compute_wall_distance(g);
+  g.owner.assign(g.blocks.size(), 0);
+  g.owner[1] = 1;  // rank 0 (this one) does not own block 1
+  const WallDistance mine = compute_wall_distance(g);
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
+    for_each_cell(g.blocks[ib], [&](int i, int j, int k) {
+      if (ib == 1) {
+        EXPECT_EQ(mine.face[ib](i, j, k), -1);
+      } else {
+        EXPECT_EQ(mine.d[ib](i, j, k), all.d[ib](i, j, k));
+        EXPECT_EQ(mine.face[ib](i, j, k), all.face[ib](i, j, k));
+      }
+    });
 }
 
 // A one-cell grid (the models need one to exist) and a log-layer cell: du/dy =
