@@ -317,10 +317,7 @@ class SteadyRun {
       single_ = std::make_unique<NewtonSolver>(g_, field_, fp_, c_.solver.newton);
     }
     if (opt_.restart) {
-      solver().set_reference_norm(info_.reference_norm);
-      solver().set_last_cfl(info_.cfl);
-      solver().set_cfl_recovering(info_.cfl_recovering);
-      solver().rise_guard().restore(info_.cfl_rise_guard);
+      solver().restore_cfl_control(info_.cfl_control);
     }
     TurbulenceStartState restored;
     if (opt_.restart)
@@ -665,11 +662,9 @@ class SteadyRun {
 
   void checkpoint(int it) {
     solver().check_finite();
-    RestartInfo r{it, solver().reference_norm(), elapsed(), {-1.0, -1.0}, flow_rate_ ? flow_rate_->magnitude() : -1.0,
-                  c_.turbulence.model};
+    RestartInfo r{it, elapsed(), {-1.0, -1.0}, flow_rate_ ? flow_rate_->magnitude() : -1.0, c_.turbulence.model};
     monitors_.store(r);
-    r.cfl_recovering = solver().cfl_recovering();
-    r.cfl_rise_guard = solver().rise_guard().state();
+    r.cfl_control = solver().cfl_control();
     r.stall_anchor = stall_.anchor();
     r.stall_anchor_iteration = stall_.anchor_iteration();
     r.force_window = force_steadiness_.state();

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "implicit/cfl_rise_guard.hpp"
+#include "implicit/cfl_control.hpp"
 #include "implicit/physical_time.hpp"
 #include "mesh/block.hpp"
 #include "physics/flow.hpp"
@@ -89,17 +89,18 @@ class NewtonSolver {
   // Residual of the current state (fills ghosts), without updating.
   IterationNorms evaluate_residual();
 
-  // SER reference norm and the last CFL (which cfl_growth limits from), saved in
-  // restarts so a continued run follows the same path.
+  // The CFL controller's state, saved in restarts and restored whole, so that a continued
+  // run follows the same path.
+  CflControlState cfl_control() const { return {ref_norm_, last_cfl_, recovering_, guard_.state()}; }
+  void restore_cfl_control(const CflControlState& c) {
+    ref_norm_ = c.reference_norm;
+    last_cfl_ = c.last_cfl;
+    recovering_ = c.recovering;
+    guard_.restore(c.rise_guard);
+  }
   Real reference_norm() const { return ref_norm_; }
-  void set_reference_norm(Real r) { ref_norm_ = r; }
-  void set_last_cfl(Real cfl) { last_cfl_ = cfl; }
-  // Whether the CFL is regrowing after a cut (kept in restarts with the last CFL).
-  bool cfl_recovering() const { return recovering_; }
-  void set_cfl_recovering(bool r) { recovering_ = r; }
-  // The CFL ceiling that sustained residual rises lower (ser_cfl; kept in restarts).
+  // The CFL ceiling that sustained residual rises lower (ser_cfl).
   const CflRiseGuard& rise_guard() const { return guard_; }
-  CflRiseGuard& rise_guard() { return guard_; }
 
   // R(Q) - f of the last evaluation (cell-integrated, no ghosts).
   const std::vector<GhostArray<State>>& residual() const { return R_; }

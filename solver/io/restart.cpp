@@ -21,6 +21,9 @@ namespace narwhal {
 namespace {
 
 constexpr const char* kFormat = "narwhal-restart-2";
+// cfl_control: reference norm, last CFL, recovering, the rise guard's ceiling, its two
+// recent norms, armed.
+constexpr hsize_t kCflControlLength = 7;
 constexpr std::size_t kUserBlock = 4096;  // HDF5 user blocks are powers of two >= 512
 constexpr std::size_t kMaxChunks = 400;   // keeps the CRC list inside the user block
 
@@ -237,7 +240,6 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
     write_string_attr(path, file, "turbulence_model", info.turbulence_model);
     write_text_dataset(path, file, "case", case_text);
     write_scalar_attr(path, file, "iteration", H5T_NATIVE_INT, info.iteration);
-    write_scalar_attr(path, file, "reference_norm", H5T_NATIVE_DOUBLE, info.reference_norm);
     write_scalar_attr(path, file, "wall_seconds", H5T_NATIVE_DOUBLE, info.wall_seconds);
     write_scalar_attr(path, file, "turbulence_reference_0", H5T_NATIVE_DOUBLE, info.turbulence_reference[0]);
     write_scalar_attr(path, file, "turbulence_reference_1", H5T_NATIVE_DOUBLE, info.turbulence_reference[1]);
@@ -251,10 +253,12 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
     if (!info.body_state.empty())  // a free body's state (motion/coupled_body.hpp)
       write_dataset(path, file, "body_state", {info.body_state.size()}, info.body_state.data());
     write_scalar_attr(path, file, "turbulence_starting", H5T_NATIVE_INT, info.turbulence_starting ? 1 : 0);
-    write_scalar_attr(path, file, "cfl_recovering", H5T_NATIVE_INT, info.cfl_recovering ? 1 : 0);
-    const std::array<double, 4> guard{info.cfl_rise_guard.ceiling, info.cfl_rise_guard.recent[0],
-                                      info.cfl_rise_guard.recent[1], info.cfl_rise_guard.armed ? 1.0 : 0.0};
-    write_dataset(path, file, "cfl_rise_guard", {guard.size()}, guard.data());
+    const CflControlState& cfl = info.cfl_control;
+    const std::array<double, kCflControlLength> control{cfl.reference_norm,        cfl.last_cfl,
+                                                        cfl.recovering ? 1.0 : 0.0, cfl.rise_guard.ceiling,
+                                                        cfl.rise_guard.recent[0],   cfl.rise_guard.recent[1],
+                                                        cfl.rise_guard.armed ? 1.0 : 0.0};
+    write_dataset(path, file, "cfl_control", {control.size()}, control.data());
     write_scalar_attr(path, file, "turbulence_start_ended", H5T_NATIVE_INT, info.turbulence_start_ended);
     if (!info.start_window.empty()) {
       write_scalar_attr(path, file, "start_components", H5T_NATIVE_INT, info.start_components);
@@ -307,6 +311,36 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
   if (H5Fclose(file) < 0) fail("error closing restart file '{}' (disk full?)", path);
 }
 
+// The CFL controller's state: the dataset cfl_control, or the pieces older restarts kept
+// (the reference norm as an attribute, the last CFL as the monitors', then a cut flag and
+// the rise guard's dataset), each missing piece as a run that never had it.
+CflControlState read_cfl_control(const std::string& path, hid_t file, Real monitors_cfl) {
+  CflControlState c;
+  if (H5Lexists(file, "cfl_control", H5P_DEFAULT) > 0) {
+    std::vector<Real> v;
+    read_dataset(path, file, "cfl_control", {kCflControlLength}, v);
+    c.reference_norm = v[0];
+    c.last_cfl = v[1];
+    c.recovering = v[2] != 0.0;
+    c.rise_guard.ceiling = v[3];
+    c.rise_guard.recent = {v[4], v[5]};
+    c.rise_guard.armed = v[6] != 0.0;
+    return c;
+  }
+  c.reference_norm = read_scalar_attr<double>(path, file, "reference_norm", H5T_NATIVE_DOUBLE);
+  c.last_cfl = monitors_cfl;
+  if (H5Aexists(file, "cfl_recovering") > 0)
+    c.recovering = read_scalar_attr<int>(path, file, "cfl_recovering", H5T_NATIVE_INT) != 0;
+  if (H5Lexists(file, "cfl_rise_guard", H5P_DEFAULT) > 0) {
+    std::vector<Real> guard;
+    read_dataset(path, file, "cfl_rise_guard", {4}, guard);
+    c.rise_guard.ceiling = guard[0];
+    c.rise_guard.recent = {guard[1], guard[2]};
+    c.rise_guard.armed = guard[3] != 0.0;
+  }
+  return c;
+}
+
 void stamp_checksums(const std::string& path) {
   const std::vector<char> bytes = read_bytes(path);
   const std::size_t chunk = chunk_size_for(bytes.size() - kUserBlock);
@@ -335,6 +369,8 @@ void write_restart(const std::string& path, const Grid& g, const FlowField& f, c
   if (ec) fail("cannot move restart file '{}' to '{}': {}", tmp, path, ec.message());
 }
 
+void stamp_restart_checksums(const std::string& path) { stamp_checksums(path); }
+
 void verify_restart_checksums(const std::string& path) { verify(path, read_bytes(path)); }
 
 RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, const std::string& turbulence_model,
@@ -352,7 +388,6 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
          info.turbulence_model, turbulence_model);
   info.iteration = read_scalar_attr<int>(path, file, "iteration", H5T_NATIVE_INT);
   if (info.iteration < 0) fail("restart '{}': attribute 'iteration' is negative ({})", path, info.iteration);
-  info.reference_norm = read_scalar_attr<double>(path, file, "reference_norm", H5T_NATIVE_DOUBLE);
   info.wall_seconds = read_scalar_attr<double>(path, file, "wall_seconds", H5T_NATIVE_DOUBLE);
   info.body_force = read_scalar_attr<double>(path, file, "body_force", H5T_NATIVE_DOUBLE);
   if (H5Aexists(file, "stall_anchor") > 0) {  // older restarts: the detector starts afresh
@@ -367,15 +402,6 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
   if (H5Lexists(file, "body_state", H5P_DEFAULT) > 0) {
     const hsize_t n = dataset_length(path, file, "body_state");
     read_dataset(path, file, "body_state", {n}, info.body_state);
-  }
-  if (H5Aexists(file, "cfl_recovering") > 0)  // older restarts: no CFL cut
-    info.cfl_recovering = read_scalar_attr<int>(path, file, "cfl_recovering", H5T_NATIVE_INT) != 0;
-  if (H5Lexists(file, "cfl_rise_guard", H5P_DEFAULT) > 0) {  // older restarts: no ceiling
-    std::vector<Real> guard;
-    read_dataset(path, file, "cfl_rise_guard", {4}, guard);
-    info.cfl_rise_guard.ceiling = guard[0];
-    info.cfl_rise_guard.recent = {guard[1], guard[2]};
-    info.cfl_rise_guard.armed = guard[3] != 0.0;
   }
   if (H5Aexists(file, "turbulence_starting") > 0) {  // older restarts: past any start
     info.turbulence_starting = read_scalar_attr<int>(path, file, "turbulence_starting", H5T_NATIVE_INT) != 0;
@@ -395,6 +421,7 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
   info.residual = {m[0], m[1], m[2], m[3]};
   info.residual_total = m[4];
   info.cfl = m[5];
+  info.cfl_control = read_cfl_control(path, file, info.cfl);
   info.residual_drop = m[6];
   info.turbulence_residual = {m[7], m[8]};
   info.turbulence_drop = m[9];

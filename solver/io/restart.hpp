@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "implicit/cfl_rise_guard.hpp"
+#include "implicit/cfl_control.hpp"
 #include "mesh/block.hpp"
 #include "physics/flow.hpp"
 
@@ -21,7 +21,6 @@ namespace narwhal {
 
 struct RestartInfo {
   int iteration = 0;
-  Real reference_norm = -1.0;
   Real wall_seconds = 0.0;
   Real turbulence_reference[2] = {-1.0, -1.0};  // first residuals of the turbulence model's variables
   Real body_force = -1.0;  // magnitude of a flow-rate-controlled body force (< 0: none)
@@ -33,12 +32,10 @@ struct RestartInfo {
   std::array<Real, 4> residual_reference{-1.0, -1.0, -1.0, -1.0};  // the largest so far, per equation
   Real residual_total = 0.0;
   Real cfl = 0.0;
-  // The CFL was cut after a rejected correction and is regrowing (NewtonSolver::ser_cfl).
-  // Older restarts: not.
-  bool cfl_recovering = false;
-  // The CFL ceiling a sustained residual rise set and the last norms the rise guard
-  // watches (implicit/cfl_rise_guard.hpp); older restarts: no ceiling.
-  CflRiseGuard::State cfl_rise_guard{};
+  // The CFL controller (dataset cfl_control). Restarts written before it had the reference
+  // norm as an attribute, the last CFL as the monitors', no cut and no ceiling, or the cut
+  // and the ceiling as pieces of their own: all still read.
+  CflControlState cfl_control{};
   Real residual_drop = 1.0;                  // |R| / |R_0| of the mean flow
   std::array<Real, 2> turbulence_residual{};  // the model's residuals
   Real turbulence_drop = 0.0;                 // the largest drop of the model's residuals
@@ -85,5 +82,8 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
 // The checksum layer alone (for tests): throws naming the file and the bytes that
 // do not match, or returns quietly.
 void verify_restart_checksums(const std::string& path);
+// Writes the checksums of the file as it is (for tests that rewrite a restart in an older
+// layout).
+void stamp_restart_checksums(const std::string& path);
 
 }  // namespace narwhal

@@ -2,6 +2,7 @@
 // the file and the key (or byte offset), and faults (a full disk, a kill, a second run
 // in the same directory, a corrupt restart) never pass silently.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <signal.h>
 #include <sys/resource.h>
 
@@ -320,6 +321,55 @@ TEST(Hardening, RestartOfAnotherModelOrGridIsRefusedWithAMessage) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("another grid"), std::string::npos) << e.what();
   }
+}
+
+// The CFL controller's state travels whole (dataset cfl_control), and a restart in the older
+// layout (the reference norm an attribute, the last CFL the monitors', the cut flag and the
+// rise guard's pieces of their own) reads to the same state.
+TEST(Restart, TheCflControllersStateIsReadWholeFromEitherLayout) {
+  RestartFixture r = written_restart();
+  RestartInfo info;
+  info.iteration = 24;
+  info.cfl = 144.0;
+  info.cfl_control = {2.5e-3, 144.0, true, {288.0, {1.5e-4, 2.5e-4}, true}};
+  write_restart(r.file.string(), r.g, r.f, info, r.c.text);
+  auto expect_state = [](const CflControlState& a, const CflControlState& b) {
+    EXPECT_EQ(a.reference_norm, b.reference_norm);
+    EXPECT_EQ(a.last_cfl, b.last_cfl);
+    EXPECT_EQ(a.recovering, b.recovering);
+    EXPECT_EQ(a.rise_guard.ceiling, b.rise_guard.ceiling);
+    EXPECT_EQ(a.rise_guard.recent, b.rise_guard.recent);
+    EXPECT_EQ(a.rise_guard.armed, b.rise_guard.armed);
+  };
+  expect_state(read_restart(r.file.string(), r.g, r.f, "laminar").cfl_control, info.cfl_control);
+
+  // The same state in the older layout.
+  {
+    const hid_t file = H5Fopen(r.file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    ASSERT_GE(H5Ldelete(file, "cfl_control", H5P_DEFAULT), 0);
+    auto attr = [&](const char* name, hid_t type, const void* value) {
+      const hid_t space = H5Screate(H5S_SCALAR);
+      const hid_t a = H5Acreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+      H5Awrite(a, type, value);
+      H5Aclose(a);
+      H5Sclose(space);
+    };
+    const double norm = 2.5e-3;
+    const int recovering = 1;
+    attr("reference_norm", H5T_NATIVE_DOUBLE, &norm);
+    attr("cfl_recovering", H5T_NATIVE_INT, &recovering);
+    const double guard[4] = {288.0, 1.5e-4, 2.5e-4, 1.0};
+    const hsize_t n = 4;
+    const hid_t space = H5Screate_simple(1, &n, nullptr);
+    const hid_t d = H5Dcreate2(file, "cfl_rise_guard", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, guard);
+    H5Dclose(d);
+    H5Sclose(space);
+    H5Fclose(file);
+  }
+  stamp_restart_checksums(r.file.string());
+  expect_state(read_restart(r.file.string(), r.g, r.f, "laminar").cfl_control, info.cfl_control);
 }
 
 TEST(Hardening, LargeCaseTextIsKeptInTheRestart) {
