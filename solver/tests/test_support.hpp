@@ -161,6 +161,36 @@ inline AppendedSuboffSpec small_appended_spec(const std::string& configuration) 
   return s;
 }
 
+// The case of small_appended_spec("stern4"): tests add keys with parse_case's overrides.
+inline const char* kSmallAppendedCase = R"(
+[grid]
+type = "appended_suboff"
+configuration = "stern4"
+cells_bow = 8
+cells_sail = 8
+cells_middle = 8
+cells_fin = 8
+cells_stern = 8
+cells_around = 8
+cells_span = 8
+cells_outer = 8
+box_half_width = 2
+cells_margin = 2
+cells_section = 8
+first_spacing = 1e-4
+fin_spacing = 1e-4
+tip_spacing = 1e-3
+leading_edge_spacing = 2e-3
+trailing_edge_spacing = 2e-3
+pole_spacing = 1e-3
+[flow]
+reynolds = 1e6
+[bc.body]
+type = "wall"
+[bc.farfield]
+type = "farfield"
+)";
+
 // Iterate to a residual drop (or the iteration limit); returns the drop reached.
 inline Real converge(NewtonSolver& s, Real drop, int max_it) {
   Real first = -1.0, last = 1.0;

@@ -192,39 +192,11 @@ TEST(TwoSidedNodes, EndSpacingsAreExactAndNodesIncrease) {
 namespace narwhal {
 namespace {
 
-const char* kAppendedCase = R"(
-[grid]
-type = "appended_suboff"
-configuration = "stern4"
-cells_bow = 8
-cells_sail = 8
-cells_middle = 8
-cells_fin = 8
-cells_stern = 8
-cells_around = 8
-cells_span = 8
-cells_outer = 8
-box_half_width = 2
-cells_margin = 2
-cells_section = 8
-first_spacing = 1e-4
-fin_spacing = 1e-4
-tip_spacing = 1e-3
-leading_edge_spacing = 2e-3
-trailing_edge_spacing = 2e-3
-pole_spacing = 1e-3
-[flow]
-reynolds = 1e6
-[bc.body]
-type = "wall"
-[bc.farfield]
-type = "farfield"
-)";
 
 // One case file serves every configuration: the appendages take [bc.body] unless given
 // their own; without [bc.body] the message names the key.
 TEST(AppendedSuboffCase, AppendagesTakeTheHullsWallCondition) {
-  const CaseConfig c = parse_case(kAppendedCase, "appended.toml", ".");
+  const CaseConfig c = parse_case(test::kSmallAppendedCase, "appended.toml", ".");
   for (const char* name : {"upper_rudder", "lower_rudder", "starboard_stern_plane", "port_stern_plane"}) {
     ASSERT_TRUE(c.bcs.count(name)) << name;
     EXPECT_EQ(c.bcs.at(name).type, BcType::Wall) << name;
@@ -235,7 +207,7 @@ TEST(AppendedSuboffCase, AppendagesTakeTheHullsWallCondition) {
   for (const Block& b : g.blocks)
     for (const Patch& p : b.patches) fin_faces += p.label == "upper_rudder" && p.type == BcType::Wall;
   EXPECT_EQ(fin_faces, 14);  // its O's six blocks from the hull to the tip; the tip: the cap's ring's six and core's two
-  std::string text = kAppendedCase;
+  std::string text = test::kSmallAppendedCase;
   text.replace(text.find("[bc.body]"), 9, "[bc.hull]");
   try {
     parse_case(text, "appended.toml", ".");
@@ -244,7 +216,7 @@ TEST(AppendedSuboffCase, AppendagesTakeTheHullsWallCondition) {
     EXPECT_NE(std::string(e.what()).find("bc.body"), std::string::npos) << e.what();
   }
   try {
-    parse_case(kAppendedCase, "appended.toml", ".", {"grid.configuration=\"aff8\""});
+    parse_case(test::kSmallAppendedCase, "appended.toml", ".", {"grid.configuration=\"aff8\""});
     FAIL() << "accepted an unknown configuration";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("grid.configuration"), std::string::npos) << e.what();
@@ -319,8 +291,8 @@ TEST(AppendedSuboffFamily, MembersScaleCountsInFoursAndSpacingsInverse) {
 // grid.scale applies last, to the counts and spacings the case gives (y+ targets included),
 // and builds a grid whose every face is whole and every cell unfolded.
 TEST(AppendedSuboffFamily, TheCaseKeyScalesTheGridItDescribes) {
-  const CaseConfig one = parse_case(kAppendedCase, "appended.toml", ".");
-  const CaseConfig finer = parse_case(kAppendedCase, "appended.toml", ".", {"grid.scale=1.5"});
+  const CaseConfig one = parse_case(test::kSmallAppendedCase, "appended.toml", ".");
+  const CaseConfig finer = parse_case(test::kSmallAppendedCase, "appended.toml", ".", {"grid.scale=1.5"});
   EXPECT_EQ(finer.grid.appended.cells_bow, 12);
   EXPECT_EQ(finer.grid.appended.box_half_width, 3);  // the case's quarter of a sector (2 of 8), of 12
   EXPECT_DOUBLE_EQ(finer.grid.appended.first_spacing, one.grid.appended.first_spacing / 1.5);
@@ -328,7 +300,7 @@ TEST(AppendedSuboffFamily, TheCaseKeyScalesTheGridItDescribes) {
   const GridQuality q = measure_grid_quality(g, {"body", "upper_rudder"}, 0.0);
   EXPECT_EQ(q.folded_cells, 0u) << q.min_corner_jacobian.block;
   try {
-    parse_case(kAppendedCase, "appended.toml", ".", {"grid.scale=0"});
+    parse_case(test::kSmallAppendedCase, "appended.toml", ".", {"grid.scale=0"});
     FAIL() << "accepted a zero scale";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("grid.scale"), std::string::npos) << e.what();

@@ -198,37 +198,27 @@ TEST(AppendedSuboff, ADeflectionItsBoxCannotHoldIsRefusedByName) {
   }
 }
 
-const char* kDeflectedCase = R"(
-[grid]
-type = "appended_suboff"
-configuration = "stern4"
-cells_bow = 8
-cells_sail = 8
-rudder_deflection = 5.0
-stern_plane_deflection = -5.0
-[flow]
-reynolds = 1.0e6
-[bc.body]
-type = "wall"
-[bc.farfield]
-type = "farfield"
-)";
+// The small appended case with both control surfaces deflected.
+const std::vector<std::string> kDeflected{"grid.rudder_deflection=5.0", "grid.stern_plane_deflection=-5.0"};
+
 
 // The keys in degrees (Gertler & Hagen's signs) reach the geometry in radians, and a
 // deflection of a surface the configuration lacks is refused naming the key.
 TEST(AppendedSuboffCase, DeflectionKeysTurnTheirSurfacesAndAreCheckedAgainstTheConfiguration) {
-  const CaseConfig c = parse_case(kDeflectedCase, "appended.toml", ".");
+  const CaseConfig c = parse_case(test::kSmallAppendedCase, "appended.toml", ".", kDeflected);
   EXPECT_NEAR(c.grid.appended.deflections.rudder, 5.0 * kDegree, 1e-15);
   EXPECT_NEAR(c.grid.appended.deflections.stern_planes, -5.0 * kDegree, 1e-15);
   try {
-    parse_case(kDeflectedCase, "appended.toml", ".", {"grid.configuration=\"sail\""});
+    std::vector<std::string> sets = kDeflected;
+    sets.push_back("grid.configuration=\"sail\"");
+    parse_case(test::kSmallAppendedCase, "appended.toml", ".", sets);
     FAIL() << "accepted a rudder angle without rudders";
   } catch (const Error& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("grid.rudder_deflection"), std::string::npos) << what;
     EXPECT_NE(what.find("no upper_rudder"), std::string::npos) << what;
   }
-  EXPECT_THROW(parse_case(kDeflectedCase, "appended.toml", ".", {"grid.rudder_deflection=45"}), Error);
+  EXPECT_THROW(parse_case(test::kSmallAppendedCase, "appended.toml", ".", {"grid.rudder_deflection=45"}), Error);
 }
 
 }  // namespace
