@@ -323,7 +323,7 @@ class SteadyRun {
     if (opt_.restart)
       restored = {info_.turbulence_starting, info_.turbulence_start_ended, info_.start_window, info_.start_components};
     coupling_ = std::make_unique<TurbulenceCoupling>(c_.turbulence, g_, field_, fp_, mg_.get(),
-                                                     opt_.restart ? &restored : nullptr);
+                                                     opt_.restart ? &restored : nullptr, comm_);
     turb_ = coupling_->model();
     fill_ghosts(g_, field_, fp_);
   }

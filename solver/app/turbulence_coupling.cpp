@@ -7,12 +7,13 @@
 namespace narwhal {
 
 TurbulenceCoupling::TurbulenceCoupling(const TurbulenceSettings& s, Grid& g, FlowField& f, const FlowParams& fp,
-                                       Multigrid* mg, const TurbulenceStartState* restored)
+                                       Multigrid* mg, const TurbulenceStartState* restored,
+                                       const Communicator& comm)
     : g_(g),
       f_(f),
       fp_(fp),
       settings_(with_model_defaults(s)),
-      model_(make_turbulence_model(s, g)),
+      model_(make_turbulence_model(s, g, comm)),
       start_forces_(settings_.start.window, *settings_.start.force_span) {
   if (!model_) return;
   model_->initialize(g_, f_, fp_, restored != nullptr);

@@ -33,9 +33,9 @@ class TurbulenceCoupling {
   // `restored`, a restart) and the eddy viscosity, and attaches it to `mg` (may be
   // null). A run from a uniform state begins with the start when the settings have
   // one; a restart continues where `restored` says. `g`, `f` and `fp` outlive this
-  // object.
+  // object; `comm` is the ranks `g` is distributed over.
   TurbulenceCoupling(const TurbulenceSettings& s, Grid& g, FlowField& f, const FlowParams& fp, Multigrid* mg,
-                     const TurbulenceStartState* restored);
+                     const TurbulenceStartState* restored, const Communicator& comm);
   TurbulenceCoupling(const TurbulenceCoupling&) = delete;  // the hook holds `this`
   TurbulenceCoupling& operator=(const TurbulenceCoupling&) = delete;
 

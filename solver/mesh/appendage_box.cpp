@@ -332,7 +332,7 @@ Real root_span_shift(const TurnedFin& f, Real xi, Real s, int side) {
 
 void deflect_levels(const AppendageBox& box, std::vector<Level>& lv) {
   const suboff::Appendage& a = *box.appendage;
-  if (!a.movable || a.deflection == 0.0) return;
+  if (!a.is_deflected()) return;
   const auto* fin = dynamic_cast<const suboff::Fin*>(&a);
   if (fin == nullptr || fin->shape().on_sail)
     fail("appendage box '{}': only control surfaces standing on the hull can be deflected", a.name());
@@ -500,10 +500,9 @@ std::vector<Block> make_appendage_box(const AppendageBox& box, const std::string
         for (std::size_t b = 0; b < l.core[a].size(); ++b) lift(base.core[a][b], l.core[a][b]);
     }
   }
-  const bool deflected = box.appendage->movable && box.appendage->deflection != 0.0;
-  const std::string turned =
-      fmt::format("appendage box '{}' deflected by {:.4g} degrees", name, box.appendage->deflection * 180.0 / kPi);
-  if (deflected) {
+  if (box.appendage->is_deflected()) {
+    const std::string turned =
+        fmt::format("appendage box '{}' deflected by {:.4g} degrees", name, box.appendage->deflection * 180.0 / kPi);
     // A deflection the box has no room for folds blocks: say so, with the deflection.
     try {
       deflect_levels(box, lv);
@@ -563,13 +562,9 @@ std::vector<Block> assemble_box_blocks(const AppendageBox& box, const std::vecto
     add_patch(b, 5, "farfield");
     blocks.push_back(std::move(b));
   }
-  if (box.appendage->movable && box.appendage->deflection != 0.0) {
-    // A deflection the box has no room for folds cells whose volume may still be positive:
-    // the scaled corner Jacobian finds them.
-    Grid deformed;
-    deformed.blocks = blocks;
-    require_unfolded(measure_grid_quality(deformed, {}, 0.0), "the deformed box");
-  }
+  // A deflection the box has no room for folds cells whose volume may still be positive:
+  // the scaled corner Jacobian finds them.
+  if (box.appendage->is_deflected()) require_unfolded(measure_folds(blocks), "the deformed box");
   return blocks;
 }
 

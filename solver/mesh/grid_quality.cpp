@@ -73,6 +73,18 @@ void for_each_wall_face(const Block& b, const Patch& p, F&& f) {
 
 Real flat_plate_friction_estimate(Real reynolds_length) { return 0.026 * std::pow(reynolds_length, -1.0 / 7.0); }
 
+FoldReport measure_folds(const std::vector<Block>& blocks) {
+  FoldReport r;
+  r.worst.value = std::numeric_limits<Real>::infinity();
+  for (const Block& b : blocks)
+    for_each_cell(b, [&](int i, int j, int k) {
+      const Real jac = scaled_corner_jacobian(b, i, j, k);
+      keep_min(r.worst, jac, b, i, j, k);
+      if (jac <= 0.0) ++r.folded;
+    });
+  return r;
+}
+
 GridQuality measure_grid_quality(const Grid& g, const std::vector<std::string>& wall_labels, Real reynolds) {
   constexpr Real inf = std::numeric_limits<Real>::infinity();
   GridQuality q;
@@ -160,11 +172,15 @@ std::string format_grid_quality(const GridQuality& q) {
 }
 
 void require_unfolded(const GridQuality& q, const std::string& where) {
-  if (q.folded_cells == 0) return;
-  const QualityExtreme& e = q.min_corner_jacobian;
+  require_unfolded(FoldReport{q.min_corner_jacobian, q.folded_cells}, where);
+}
+
+void require_unfolded(const FoldReport& folds, const std::string& where) {
+  if (folds.folded == 0) return;
+  const QualityExtreme& e = folds.worst;
   fail("{}: the grid has {} folded or collapsed cell(s) (scaled corner Jacobian <= 0); the worst, {:.3f}, is in "
        "block '{}' cell ({}, {}, {})",
-       where, q.folded_cells, e.value, e.block, e.cell[0], e.cell[1], e.cell[2]);
+       where, folds.folded, e.value, e.block, e.cell[0], e.cell[1], e.cell[2]);
 }
 
 }  // namespace narwhal

@@ -41,6 +41,14 @@ struct GridQuality {
   QualityExtreme max_aspect_ratio;
 };
 
+// The folds alone, what a grid deformation must check: the smallest scaled corner
+// Jacobian and the number of cells at or below 0.
+struct FoldReport {
+  QualityExtreme worst;
+  std::size_t folded = 0;
+};
+FoldReport measure_folds(const std::vector<Block>& blocks);
+
 // `wall_labels`: patch labels that are no-slip walls. `reynolds`: Re per unit length
 // of the grid (0: no y+ estimate).
 GridQuality measure_grid_quality(const Grid& g, const std::vector<std::string>& wall_labels, Real reynolds);
@@ -50,6 +58,7 @@ std::string format_grid_quality(const GridQuality& q);
 
 // Throws an Error naming the first folded cell's block and indices when any cell has
 // a scaled corner Jacobian <= 0. `where` names the grid's source (case file).
+void require_unfolded(const FoldReport& folds, const std::string& where);
 void require_unfolded(const GridQuality& q, const std::string& where);
 
 // Skin-friction estimate behind the y+ figure: Cf = 0.026 Re_L^(-1/7).

@@ -61,6 +61,7 @@ class Appendage {
   bool movable = false;
   Real stock_x = 0.0;
   Real deflection = 0.0;
+  bool is_deflected() const { return movable && deflection != 0.0; }
 
   // The surface point at (x, s) on the side `side` (+1: towards +offset, -1: away),
   // the deflection applied, in the SUBOFF frame.

@@ -35,8 +35,8 @@ namespace narwhal {
 
 class MenterSst final : public TransportModel {
  public:
-  MenterSst(const TurbulenceSettings& s, const Grid& g)
-      : TransportModel(s, g), dy1_per_d1_(s.omega_wall == "cell_centre" ? 1.0 : 2.0) {}
+  MenterSst(const TurbulenceSettings& s, const Grid& g, const Communicator& comm)
+      : TransportModel(s, g, comm), dy1_per_d1_(s.omega_wall == "cell_centre" ? 1.0 : 2.0) {}
   std::string name() const override { return "sst"; }
   int num_variables() const override { return 2; }
   std::string variable_name(int m) const override { return m == 0 ? "k" : "omega"; }

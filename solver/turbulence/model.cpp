@@ -60,14 +60,15 @@ TurbulenceSettings with_model_defaults(TurbulenceSettings s) {
   return s;
 }
 
-std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings& s, const Grid& g) {
+std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings& s, const Grid& g,
+                                                       const Communicator& comm) {
   if (s.model == "laminar") return nullptr;
   if (s.model == "baldwin-lomax") return std::make_unique<BaldwinLomax>(s, g);
-  if (s.model == "sa") return std::make_unique<SpalartAllmaras>(s, g);
-  if (s.model == "sst") return std::make_unique<MenterSst>(s, g);
-  if (s.model == "myong-kasagi") return std::make_unique<MyongKasagi>(s, g);
-  if (s.model == "nonlinear-k-epsilon") return std::make_unique<NonlinearKEpsilon>(s, g);
-  if (s.model == "launder-sharma") return std::make_unique<LaunderSharma>(s, g);
+  if (s.model == "sa") return std::make_unique<SpalartAllmaras>(s, g, comm);
+  if (s.model == "sst") return std::make_unique<MenterSst>(s, g, comm);
+  if (s.model == "myong-kasagi") return std::make_unique<MyongKasagi>(s, g, comm);
+  if (s.model == "nonlinear-k-epsilon") return std::make_unique<NonlinearKEpsilon>(s, g, comm);
+  if (s.model == "launder-sharma") return std::make_unique<LaunderSharma>(s, g, comm);
   std::string valid;
   for (const auto& m : turbulence_models()) valid += (valid.empty() ? "" : ", ") + ("'" + m.name + "'");
   fail("unknown turbulence model '{}': valid models are {}", s.model, valid);

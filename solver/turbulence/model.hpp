@@ -165,6 +165,9 @@ const std::vector<TurbulenceModelInfo>& turbulence_models();
 
 // The model of that name on this grid (wall distance computed here), or nullptr
 // for "laminar"; an unknown name throws, listing the valid ones.
-std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings& s, const Grid& g);
+// `comm`: the ranks the grid's blocks are distributed over; the transport models gather
+// the wall faces' friction velocities over it each iteration.
+std::unique_ptr<TurbulenceModel> make_turbulence_model(const TurbulenceSettings& s, const Grid& g,
+                                                       const Communicator& comm);
 
 }  // namespace narwhal

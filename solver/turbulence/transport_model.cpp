@@ -29,8 +29,8 @@ Real interior_volume_flux(const Block& b, const GhostArray<State>& Q, int d, con
 
 }  // namespace
 
-TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g) :
-    settings_(with_model_defaults(s)), wall_(compute_wall_distance(g)) {
+TransportModel::TransportModel(const TurbulenceSettings& s, const Grid& g, const Communicator& comm) :
+    settings_(with_model_defaults(s)), comm_(comm), wall_(compute_wall_distance(g)) {
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
     Work w;
@@ -166,7 +166,7 @@ CellFlow TransportModel::cell_flow(const Block& b, int ib, const FlowField& f, c
 TurbulenceNorms TransportModel::advance(Grid& g, FlowField& f, const FlowParams& fp, Real cfl) {
   const Real cfl_t = std::min(cfl, settings_.cfl_max);
   fill_ghosts(g, f, fp);  // mean-flow ghosts: volume fluxes and velocity gradients
-  if (needs_friction_velocity()) compute_friction_velocity(g, f, fp);
+  if (needs_friction_velocity()) gather_friction_velocity(g, f, fp);
   compute_volume_fluxes(g, f, fp);
   if (needs_velocity_hessian()) compute_velocity_gradients(g, f);
   TurbulenceNorms norms;
@@ -491,7 +491,7 @@ void TransportModel::apply_update(const Grid& g, FlowField& f) {
   }
 }
 
-void TransportModel::compute_friction_velocity(const Grid& g, const FlowField& f, const FlowParams& fp) {
+void TransportModel::gather_friction_velocity(const Grid& g, const FlowField& f, const FlowParams& fp) {
   // Same face order as compute_wall_distance. tau_w = nu |u_t1| / d1 from the wall
   // cell's tangential velocity (the wall at rest in the grid frame's sense of §5.1
   // is not needed here: y+ only switches damping functions).
@@ -516,12 +516,12 @@ void TransportModel::compute_friction_velocity(const Grid& g, const FlowField& f
   }
   // Every wall face has one owner: the sum is an exact gather (a cell's nearest wall
   // face may be on another rank).
-  if (!g.owner.empty()) Communicator::world().sum(u_tau_);
+  if (!g.owner.empty()) comm_.sum(u_tau_);
 }
 
 void TransportModel::update_viscosity(const Grid& g, FlowField& f, const FlowParams& fp) {
   const Real nu = 1.0 / fp.reynolds;
-  if (needs_friction_velocity() && u_tau_.size() != wall_.faces.size()) compute_friction_velocity(g, f, fp);
+  if (needs_friction_velocity() && u_tau_.size() != wall_.faces.size()) gather_friction_velocity(g, f, fp);
   const Real cap = 1.0e6 * nu;  // §8.6: nut_hat <= 1e6
   const bool nonlinear = has_nonlinear_stress();
   if (nonlinear && f.tau_nl.size() != g.blocks.size()) {

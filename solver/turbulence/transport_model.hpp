@@ -41,7 +41,7 @@ struct PointSource {
 
 class TransportModel : public TurbulenceModel {
  public:
-  TransportModel(const TurbulenceSettings& s, const Grid& g);
+  TransportModel(const TurbulenceSettings& s, const Grid& g, const Communicator& comm);
 
   void initialize(const Grid& g, FlowField& f, const FlowParams& fp, bool keep) override;
   TurbulenceNorms advance(Grid& g, FlowField& f, const FlowParams& fp, Real cfl) override;
@@ -114,7 +114,8 @@ class TransportModel : public TurbulenceModel {
 
  private:
   void fill_scalar_ghosts(Grid& g, FlowField& f, const FlowParams& fp) const;
-  void compute_friction_velocity(const Grid& g, const FlowField& f, const FlowParams& fp);
+  // Collective over comm_: each rank measures its own wall faces, the sum gathers all.
+  void gather_friction_velocity(const Grid& g, const FlowField& f, const FlowParams& fp);
   CellFlow cell_flow(const Block& b, int ib, const FlowField& f, const FlowParams& fp, const Index3& c,
                      bool for_sources) const;  // false: what nu_t needs only (no gradients of phi, no Hessian)
 
@@ -135,6 +136,7 @@ class TransportModel : public TurbulenceModel {
   void sweep_points(const Block& b, Work& w, bool forward) const;
   void apply_update(const Grid& g, FlowField& f);
 
+  Communicator comm_;
   WallDistance wall_;
   const PhysicalTimeTerm* time_ = nullptr;  // dual time: the variables' physical-time term
   std::vector<Real> u_tau_;  // per wall face (WallDistance::faces order), when the model needs it

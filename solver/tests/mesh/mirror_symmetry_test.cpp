@@ -182,7 +182,7 @@ TEST(MirrorSymmetry, SstUpdateOfASymmetricStateIsSymmetric) {
   ts.model = "sst";
   ts.smoother = "points";
   ts.sgs_iterations = 100;  // converged within each block: the step is then the sweeps' fixed point
-  auto model = make_turbulence_model(ts, g);
+  auto model = make_turbulence_model(ts, g, Communicator::world());
   model->initialize(g, f, fp, false);
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
     for_each_cell(g.blocks[ib], [&](int i, int j, int k) {

@@ -158,7 +158,7 @@ TEST(SpalartAllmaras, LogLayerPointSourceBalancesTheDiffusionTerm) {
   // which is how cw1 is defined. chi is huge so that fv2 and ft2 vanish.
   const Real kappa = 0.41, cb2 = 0.622, sigma = 2.0 / 3.0, utau = 0.05, y = 1e-3;
   const Grid g = unit_cell_grid();
-  const SpalartAllmaras sa(TurbulenceSettings{}, g);
+  const SpalartAllmaras sa(TurbulenceSettings{}, g, Communicator::world());
   const CellFlow cf = log_layer_cell(utau, kappa, y);
   const PointSource s = sa.source(TurbState(kappa * utau * y, 0.0), cf);
   const Real expected = -(1.0 + cb2) * kappa * kappa * utau * utau / sigma;
@@ -177,7 +177,7 @@ TEST(MenterSst, LogLayerEquilibriumOfTheInnerSet) {
   // the rest up to SST-2003's rounded gamma1 = 5/9).
   const Real kappa = 0.41, bstar = 0.09, utau = 0.05, y = 1e-3;
   const Grid g = unit_cell_grid();
-  const MenterSst sst(TurbulenceSettings{}, g);
+  const MenterSst sst(TurbulenceSettings{}, g, Communicator::world());
   const CellFlow cf = log_layer_cell(utau, kappa, y);
   const TurbState phi(utau * utau / std::sqrt(bstar), utau / (std::sqrt(bstar) * kappa * y));
   const TurbState aux = sst.cell_aux(phi, cf);
@@ -213,12 +213,12 @@ void expect_k_epsilon_log_layer(const Model& model, Real c1, Real c2, Real sigma
 
 TEST(LaunderSharma, LogLayerEquilibrium) {
   const Grid g = unit_cell_grid();
-  expect_k_epsilon_log_layer(LaunderSharma(TurbulenceSettings{}, g), 1.44, 1.92, 1.3);
+  expect_k_epsilon_log_layer(LaunderSharma(TurbulenceSettings{}, g, Communicator::world()), 1.44, 1.92, 1.3);
 }
 
 TEST(MyongKasagi, LogLayerEquilibriumAndEddyViscosity) {
   const Grid g = unit_cell_grid();
-  const MyongKasagi mk(TurbulenceSettings{}, g);
+  const MyongKasagi mk(TurbulenceSettings{}, g, Communicator::world());
   expect_k_epsilon_log_layer(mk, 1.4, 1.8, 1.3);
   const Real utau = 0.05, y = 1e-3, kappa = std::sqrt(0.4 * 1.3 * 0.3);
   CellFlow cf = log_layer_cell(utau, kappa, y);
@@ -274,7 +274,7 @@ TEST(NonlinearKEpsilon, ProductionIsNumerics85AndZeroCoefficientsGiveMyongKasagi
   const Grid g = unit_cell_grid();
   TurbulenceSettings ts;
   ts.nonlinear = {0.6048, 0.6048, 0.3};
-  const NonlinearKEpsilonProbe nl(ts, g);
+  const NonlinearKEpsilonProbe nl(ts, g, Communicator::world());
   CellFlow cf = log_layer_cell(0.05, 0.41, 1e-3);
   cf.grad_u = 0.2 * general_velocity_gradient();
   const Real k = 0.3, eps = 0.05, nut = 0.09 * k * k / eps;
@@ -288,8 +288,8 @@ TEST(NonlinearKEpsilon, ProductionIsNumerics85AndZeroCoefficientsGiveMyongKasagi
               1e-15);
   // C1 = C2 = C3 = 0: no stress, and the sources are Myong-Kasagi's to the last bit.
   ts.nonlinear = {0.0, 0.0, 0.0};
-  const NonlinearKEpsilonProbe linear(ts, g);
-  const MyongKasagi mk(ts, g);
+  const NonlinearKEpsilonProbe linear(ts, g, Communicator::world());
+  const MyongKasagi mk(ts, g, Communicator::world());
   EXPECT_EQ(linear.cell_nonlinear_stress(phi, cf, nut).norm(), 0.0);
   const PointSource a = linear.source(phi, cf), b = mk.source(phi, cf);
   EXPECT_EQ(a.value[0], b.value[0]);
@@ -360,7 +360,7 @@ struct MyongKasagiProbe : MyongKasagi {
 TEST(MyongKasagi, WallDissipationFromTheWallCell) {
   // eps_w = 2 nu (d sqrt(k)/dn)^2 with sqrt(k) ~ y: 2 nu k_1/d_1^2 (§5.8).
   const Grid g = unit_cell_grid();
-  const MyongKasagiProbe mk(TurbulenceSettings{}, g);
+  const MyongKasagiProbe mk(TurbulenceSettings{}, g, Communicator::world());
   const TurbState w = mk.wall_value(2e-7, 1e-6, TurbState(3e-9, 0.5));
   EXPECT_EQ(w[0], 0.0);
   EXPECT_NEAR(w[1], 2.0 * 2e-7 * 3e-9 / 1e-12, 1e-15);
@@ -371,9 +371,9 @@ TEST(MenterSst, WallOmegaFromTheWallCellsHeightOrItsCentre) {
   const Grid g = unit_cell_grid();
   TurbulenceSettings s;
   s.model = "sst";
-  const MenterSst height(s, g);
+  const MenterSst height(s, g, Communicator::world());
   s.omega_wall = "cell_centre";
-  const MenterSst centre(s, g);
+  const MenterSst centre(s, g, Communicator::world());
   const Real nu = 2e-7, d1 = 1e-6;
   EXPECT_EQ(height.wall_value(nu, d1, TurbState(1e-6, 10.0))[0], 0.0);
   EXPECT_NEAR(height.wall_value(nu, d1, TurbState(1e-6, 10.0))[1] / (60.0 * nu / (0.075 * 4.0 * d1 * d1)), 1.0, 1e-14);
@@ -407,7 +407,7 @@ struct FreeStreamBox {
     ts.intensity = 0.01;
     ts.freestream_nut_ratio = 1.0;
     ts.sustain_freestream = sustain;
-    auto m = make_turbulence_model(ts, g);
+    auto m = make_turbulence_model(ts, g, Communicator::world());
     m->initialize(g, f, fp, false);
     return m;
   }
@@ -422,7 +422,7 @@ TEST(TransportModel, UniformFreeStreamStaysUniformOnAPerturbedGrid) {
   f.allocate(g, fp, init);
   TurbulenceSettings ts;
   ts.model = "sa";
-  auto model = make_turbulence_model(ts, g);
+  auto model = make_turbulence_model(ts, g, Communicator::world());
   model->initialize(g, f, fp, false);
   const TurbulenceNorms n = model->advance(g, f, fp, 1e3);
   EXPECT_LE(n.l2[0], 1e-12 * 3.0 / fp.reynolds);
@@ -484,7 +484,7 @@ TEST(TurbulenceModels, UnknownNameListsTheValidOnes) {
   TurbulenceSettings s;
   s.model = "k-omega-wilcox";
   try {
-    make_turbulence_model(s, g);
+    make_turbulence_model(s, g, Communicator::world());
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("'sa'"), std::string::npos) << e.what();
@@ -507,7 +507,7 @@ TEST(TransportModel, LargestResidualNamesBlockCellAndVariable) {
     const FlowParams fp = flow_params(c);
     FlowField f;
     f.allocate(g, fp, c.initial);
-    const auto m = make_turbulence_model(c.turbulence, g);
+    const auto m = make_turbulence_model(c.turbulence, g, Communicator::world());
     m->initialize(g, f, fp, false);
     fill_ghosts(g, f, fp);
     m->update_viscosity(g, f, fp);
