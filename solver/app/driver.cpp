@@ -115,6 +115,7 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
                    {"turbulence_omega_wall", c.turbulence.omega_wall},
                    {"stall_window", c.solver.stall_window},
                    {"stall_factor", c.solver.stall_factor},
+                   {"turbulence_drop", c.solver.turbulence_target()},
                    {"force_tolerance", c.solver.force_tolerance},
                    {"force_window", c.solver.force_window}};
   j["body_force"] = {body_force[0], body_force[1], body_force[2]};
@@ -212,7 +213,9 @@ struct Monitors {
     r.residual_reference = reference_l2;
     r.turbulence_drop = turb_drop;
   }
-  bool converged(Real target) const { return drop < target && turb_drop < target; }
+  bool converged(Real mean_flow_target, Real turbulence_target) const {
+    return drop < mean_flow_target && turb_drop < turbulence_target;
+  }
 };
 
 // How a physical step's sub-iterations ended.
@@ -387,7 +390,7 @@ class SteadyRun {
     }
     // A resumed run that had nothing left to do has no residual of its own to locate.
     if (s_.status == RunStatus::MaxIterations && s_.iterations > info_.iteration &&
-        monitors_.converged(c_.solver.residual_drop))
+        monitors_.converged(c_.solver.residual_drop, c_.solver.turbulence_target()))
       s_.message = fmt::format("not converged: the residuals are down, the forces moved by {:.2e} of the largest over "
                                "the last {} iterations (solver.force_tolerance {:.1e})",
                                force_steadiness_.span(), force_steadiness_.window(), force_steadiness_.tolerance());
@@ -596,7 +599,9 @@ class SteadyRun {
   }
 
   // Residuals down by solver.residual_drop and, when the case asks, forces steady.
-  bool converged() const { return monitors_.converged(c_.solver.residual_drop) && force_steadiness_.steady(); }
+  bool converged() const {
+    return monitors_.converged(c_.solver.residual_drop, c_.solver.turbulence_target()) && force_steadiness_.steady();
+  }
 
   // True when the run stops here: diverged or converged.
   bool judge_convergence(int it) {

@@ -515,6 +515,9 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                                   Range::between(0, 1e9));
   s.residual_drop = r.number_or("solver.residual_drop", s.residual_drop, "the residual reduction that ends the run",
                                 Range::open(0, 1));
+  s.turbulence_drop = r.number_or("solver.turbulence_drop", s.turbulence_drop,
+                                  "the turbulence residuals' reduction convergence waits for (0: residual_drop)",
+                                  Range::between(0, 1));
   s.divergence_factor = r.number_or("solver.divergence_factor", s.divergence_factor,
                                     "the residual growth that counts as divergence", Range::above(1));
   s.regrowth_factor = r.number_or("solver.regrowth_factor", s.regrowth_factor,

@@ -58,6 +58,11 @@ struct SolverConfig {
   MultigridSettings multigrid;  // levels = 1: single grid
   int max_iterations = 1000;
   Real residual_drop = 1e-10;      // converged when |R| / |R_0| falls below
+  // The turbulence model's residuals' drop (against the largest each has had) that
+  // convergence waits for; 0: residual_drop. A model residual with a floor in a few cells
+  // while the forces have settled (the appended hulls' k) is judged by force_tolerance.
+  Real turbulence_drop = 0.0;
+  Real turbulence_target() const { return turbulence_drop > 0.0 ? turbulence_drop : residual_drop; }
   Real divergence_factor = 1e4;    // diverged when |R| / |R_0| exceeds
   // Diverged, too, when |R| exceeds the lowest it has been in this run by this factor: a
   // run whose residual had fallen 1e4-fold can otherwise regrow 1e8-fold, its state long

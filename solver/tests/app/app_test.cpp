@@ -606,6 +606,27 @@ TEST(Robustness, StalledRunEndsNamingTheSlowestEquationAndItsWorstCell) {
   EXPECT_EQ(run_case(ok, o).status, RunStatus::Converged);
 }
 
+// solver.turbulence_drop sets the model's residual drop apart from the mean flow's:
+// tighter than residual_drop, the run goes on until the model's residuals are down too.
+TEST(Convergence, TurbulenceDropIsWaitedForApartFromTheMeanFlows) {
+  const std::string plate = test::source_path("validation/cases/tmr_flat_plate/flat_plate_sa.toml");
+  const fs::path dir = test::fresh_temp_dir("narwhal_turbulence_drop_test");
+  fs::remove_all(dir);
+  RunOptions o;
+  o.out_dir = (dir / "shared").string();
+  const std::vector<std::string> loose{"grid.coarsen=3", "solver.residual_drop=1e-3", "solver.force_tolerance=0"};
+  const RunSummary shared = run_case(load_case(plate, loose), o);
+  ASSERT_EQ(shared.status, RunStatus::Converged);
+  ASSERT_GT(shared.turbulence_drop, 1e-9);  // else the tighter target below decides nothing
+  o.out_dir = (dir / "apart").string();
+  std::vector<std::string> tight = loose;
+  tight.push_back("solver.turbulence_drop=1e-9");
+  const RunSummary apart = run_case(load_case(plate, tight), o);
+  ASSERT_EQ(apart.status, RunStatus::Converged);
+  EXPECT_LT(apart.turbulence_drop, 1e-9);
+  EXPECT_GT(apart.iterations, shared.iterations);
+}
+
 // A run resumed from a restart written on the plateau stalls at the same iteration
 // as the uninterrupted one: the detector's anchor travels with the restart.
 TEST(Restart, StallDetectorStateContinuesFromTheRestart) {
