@@ -456,7 +456,8 @@ def _plot_residuals(rung_dir, res, path):
 def _rung_page(rung_dir, res):
     rows = "".join(
         f"<tr><td>{html.escape(r['id'])}</td><td>{html.escape(r.get('peer_version') or r.get('code', 'narwhal'))}</td>"
-        f"<td class='{html.escape(str(r.get('status')))}'>{_fmt(r.get('status'))}</td>"
+        f"<td class='{html.escape(str(r.get('status')))}'>{_fmt(r.get('status'))}"
+        f"{' (reused from an earlier sitting)' if r.get('reused') else ''}</td>"
         f"<td class=num>{_fmt(r.get('ranks', 1))}</td>"
         f"<td class=num>{_fmt(r.get('iterations'))}</td><td class=num>{_fmt(r.get('wall_seconds'))}</td>"
         f"<td class=num>{_fmt(r.get('cells'))}</td><td class=num>{_fmt(r.get('residual_drop'))}</td>"
@@ -547,7 +548,9 @@ def _perf_history(reports, tier):
                 r = json.loads(rj.read_text())
             except (OSError, json.JSONDecodeError):
                 continue
-            if r.get("tier") == tier and r.get("status") == "passed":
+            # A resumed rung's time is not one sitting's: it stays out of the timing trend.
+            resumed = any(x.get("reused") for x in r.get("runs", []))
+            if r.get("tier") == tier and r.get("status") == "passed" and not resumed:
                 out.append((d.name, r["rung"], r.get("wall_seconds", 0.0)))
     return out
 

@@ -1,5 +1,6 @@
 """Runs one rung: its solver runs (with time-out), then its checks; writes results.json."""
 import functools
+import hashlib
 import json
 import os
 import platform
@@ -25,6 +26,30 @@ def git_sha(root):
                               check=True).stdout.strip()
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
+
+
+def solver_source_fingerprint(root):
+    """The git trees the solver is built from, or None when they hold uncommitted changes
+    (or there is no git): a resumed report reuses a run only from the same solver sources."""
+    try:
+        dirty = subprocess.run(["git", "status", "--porcelain", "--", "solver", "CMakeLists.txt"], cwd=root,
+                               capture_output=True, text=True, check=True).stdout.strip()
+        trees = subprocess.run(["git", "rev-parse", "HEAD:solver", "HEAD:CMakeLists.txt"], cwd=root,
+                               capture_output=True, text=True, check=True).stdout.split()
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return None if dirty else " ".join(trees)
+
+
+def case_folder_digest(input_path):
+    """sha256 over the files of a run's input folder but the rung file (case.toml): the input
+    and whatever it names beside it (grids, tables)."""
+    h = hashlib.sha256()
+    for f in sorted(Path(input_path).resolve().parent.iterdir()):
+        if f.is_file() and f.name != "case.toml":
+            h.update(f.name.encode())
+            h.update(f.read_bytes())
+    return h.hexdigest()
 
 
 def effective_input(run):
@@ -88,7 +113,11 @@ def ranks_needed(rung, tier, ranks=1):
     return max([r.ranks or ranks for r in rung.runs if tier in r.tiers], default=1)
 
 
-def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
+def run_rung(rung, tier, narwhal, out_dir, root, ranks=1, resume=False):
+    """Runs the rung's runs of `tier`, then its checks. With `resume`, a Narwhal run whose folder
+    holds the record of a finished run of the same command, case folder and solver sources
+    (RUN_RECORD, written after each run) is not run again: a nightly report can be built up over
+    several sittings."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     started = time.monotonic()
@@ -108,7 +137,9 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1):
         rd.mkdir(parents=True, exist_ok=True)
         remaining = rung.timeout_s - (time.monotonic() - started)
         if r.code == "narwhal":
-            info = _run_narwhal(r, rd, r.ranks or ranks, narwhal, out_dir, remaining)
+            key = _run_key(r, rd, r.ranks or ranks, narwhal, out_dir, root)
+            info = (_recorded_run(rd, key) if resume else None) or \
+                _run_narwhal(r, rd, r.ranks or ranks, narwhal, out_dir, remaining, key)
         else:
             info = _run_peer(r, rd, r.ranks or ranks, narwhal, out_dir, remaining)
         if "compiler" in info:
@@ -161,17 +192,55 @@ def _overrides(r):
     return [a for k, v in r.set.items() for a in ("--set", f"{k}={v}")]
 
 
-def _run_narwhal(r, rd, n, narwhal, out_dir, remaining):
-    """One Narwhal run (under mpirun for n > 1): its entry of result["runs"]."""
-    try:
-        cmd = mpi_launcher(n) + [str(narwhal), "run", str(r.input), "--out", str(rd)]
-    except HarnessError as e:
-        return {"id": r.id, "status": "crashed (no MPI launcher)", "message": str(e), "ranks": n}
+def _narwhal_command(r, rd, n, narwhal, out_dir):
+    cmd = mpi_launcher(n) + [str(narwhal), "run", str(r.input), "--out", str(rd)]
     cmd += _overrides(r)
     if r.max_iterations:
         cmd += ["--max-iterations", str(r.max_iterations)]
     if r.restart_from:
         cmd += ["--restart", str(out_dir / "runs" / r.restart_from / "restart.h5")]
+    return cmd
+
+
+RUN_RECORD = "harness_run.json"
+REUSABLE = (0, 1)  # converged, or ended at max_iterations / stalled: results the checks judge
+
+
+def _run_key(r, rd, n, narwhal, out_dir, root):
+    """What a run's result depends on, or None when that cannot be pinned down (uncommitted
+    solver sources, no MPI launcher): such a run is never reused."""
+    sources = solver_source_fingerprint(root)
+    try:
+        cmd = _narwhal_command(r, rd, n, narwhal, out_dir)
+    except HarnessError:
+        return None
+    if sources is None:
+        return None
+    return {"command": cmd, "case_folder_sha256": case_folder_digest(r.input), "solver_sources": sources}
+
+
+def _recorded_run(rd, key):
+    """The result["runs"] entry of a finished run recorded in `rd` under the same key, else None."""
+    path = rd / RUN_RECORD
+    if key is None or not path.exists() or not (rd / "run.json").exists():
+        return None
+    try:
+        record = json.loads(path.read_text())
+    except (OSError, json.JSONDecodeError):
+        return None
+    if record.get("key") != key or record.get("info", {}).get("exit_code") not in REUSABLE:
+        return None
+    return dict(record["info"], reused=True)
+
+
+def _run_narwhal(r, rd, n, narwhal, out_dir, remaining, key=None):
+    """One Narwhal run (under mpirun for n > 1): its entry of result["runs"]; with a key, the
+    record that lets a resumed report reuse it."""
+    (rd / RUN_RECORD).unlink(missing_ok=True)
+    try:
+        cmd = _narwhal_command(r, rd, n, narwhal, out_dir)
+    except HarnessError as e:
+        return {"id": r.id, "status": "crashed (no MPI launcher)", "message": str(e), "ranks": n}
     info = {"id": r.id, "code": "narwhal", "command": " ".join(cmd), "log": f"runs/{r.id}/narwhal.log", "ranks": n}
     try:
         with open(rd / "narwhal.log", "w") as log:
@@ -188,6 +257,8 @@ def _run_narwhal(r, rd, n, narwhal, out_dir, remaining):
         for k in ("iterations", "wall_seconds", "cells", "residual_drop", "status", "message"):
             info[k] = data.get(k)
         info.update({k: data["provenance"][k] for k in ("compiler", "flags", "version")})
+    if key is not None and info.get("exit_code") in REUSABLE:
+        (rd / RUN_RECORD).write_text(json.dumps({"key": key, "info": info}, indent=1))
     return info
 
 

@@ -1,5 +1,6 @@
-"""The runner's handling of builds that cannot run a rung."""
+"""The runner's handling of builds that cannot run a rung, and of a resumed report."""
 import os
+import subprocess
 import stat
 import tempfile
 import textwrap
@@ -45,6 +46,75 @@ class MpiRungWithoutMpi(unittest.TestCase):
         self.assertEqual(res["status"], "skipped")
         self.assertIn("without MPI", res["message"])
         self.assertTrue((self.dir / "out" / "results.json").exists())
+
+
+def counting_narwhal(directory, exit_code=0):
+    """An executable that answers --version like a serial narwhal and, for `run ... --out D`,
+    writes D/run.json, appends a line to runs.log beside itself and exits with exit_code."""
+    exe = Path(directory) / "narwhal"
+    exe.write_text(textwrap.dedent(f"""\
+        #!/bin/sh
+        [ "$1" = --version ] && echo 'narwhal 0.1.0 (abc, no MPI)' && exit 0
+        while [ "$1" != --out ]; do shift; done
+        mkdir -p "$2"
+        echo '{{"status": "converged", "iterations": 7, "provenance": {{"compiler": "c", "flags": "f", "version": "v"}}}}' > "$2/run.json"
+        echo run >> "{directory}/runs.log"
+        exit {exit_code}
+        """))
+    exe.chmod(exe.stat().st_mode | stat.S_IXUSR)
+    return exe
+
+
+class ResumedReport(unittest.TestCase):
+    """--resume reuses a finished run only when nothing it depends on has changed."""
+
+    def setUp(self):
+        self.root = Path(tempfile.mkdtemp())
+        git = lambda *a: subprocess.run(["git", *a], cwd=self.root, check=True, capture_output=True)  # noqa: E731
+        (self.root / "solver").mkdir()
+        (self.root / "solver" / "kernel.cpp").write_text("int x;\n")
+        (self.root / "CMakeLists.txt").write_text("project(p)\n")
+        git("init", "-q")
+        git("add", ".")
+        git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "-m", "sources")
+        self.case = self.root / "cases" / "r"
+        self.case.mkdir(parents=True)
+        (self.case / "in.toml").write_text("a = 1\n")
+        (self.case / "case.toml").write_text(textwrap.dedent(GOOD))
+        self.rung = load_rung(self.case / "case.toml")
+
+    def runs_made(self, exe, resume=True):
+        before = self.count(exe)
+        res = run_rung(self.rung, "quick", exe, self.root / "out", self.root, resume=resume)
+        return self.count(exe) - before, res
+
+    @staticmethod
+    def count(exe):
+        log = exe.parent / "runs.log"
+        return len(log.read_text().splitlines()) if log.exists() else 0
+
+    def test_a_finished_run_is_reused_and_said_so(self):
+        exe = counting_narwhal(self.root)
+        self.assertEqual(self.runs_made(exe)[0], 1)
+        made, res = self.runs_made(exe)
+        self.assertEqual(made, 0)
+        self.assertTrue(res["runs"][0]["reused"])
+        self.assertEqual(res["runs"][0]["iterations"], 7)
+        self.assertEqual(self.runs_made(exe, resume=False)[0], 1, "without --resume every run is made")
+
+    def test_a_changed_case_folder_or_uncommitted_solver_sources_run_again(self):
+        exe = counting_narwhal(self.root)
+        self.runs_made(exe)
+        (self.case / "grid.xyz").write_text("1 2 3\n")
+        self.assertEqual(self.runs_made(exe)[0], 1, "a new file beside the input")
+        (self.root / "solver" / "kernel.cpp").write_text("int y;\n")
+        self.assertEqual(self.runs_made(exe)[0], 1, "uncommitted solver sources")
+        self.assertEqual(self.runs_made(exe)[0], 1, "and never recorded while they stay so")
+
+    def test_a_diverged_run_is_not_reused(self):
+        exe = counting_narwhal(self.root, exit_code=3)
+        self.runs_made(exe)
+        self.assertEqual(self.runs_made(exe)[0], 1)
 
 
 if __name__ == "__main__":
