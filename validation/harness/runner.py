@@ -29,16 +29,25 @@ def git_sha(root):
 
 
 def solver_source_fingerprint(root):
-    """The git trees the solver is built from, or None when they hold uncommitted changes
-    (or there is no git): a resumed report reuses a run only from the same solver sources."""
+    """A digest of the committed files narwhal is built from (CMakeLists.txt and solver/ but its
+    tests and notes), or None when any of them has uncommitted changes (or there is no git): a
+    resumed report reuses a run only from the same solver sources."""
+    def git(*args):
+        return subprocess.run(["git", *args], cwd=root, capture_output=True, text=True, check=True).stdout
+
+    built_from = lambda path: not path.startswith("solver/tests/") and not path.endswith(".md")  # noqa: E731
     try:
-        dirty = subprocess.run(["git", "status", "--porcelain", "--", "solver", "CMakeLists.txt"], cwd=root,
-                               capture_output=True, text=True, check=True).stdout.strip()
-        trees = subprocess.run(["git", "rev-parse", "HEAD:solver", "HEAD:CMakeLists.txt"], cwd=root,
-                               capture_output=True, text=True, check=True).stdout.split()
+        dirty = [line[3:] for line in git("status", "--porcelain", "--", "solver", "CMakeLists.txt").splitlines()]
+        blobs = [line.split(None, 3) for line in git("ls-tree", "-r", "HEAD", "--", "solver", "CMakeLists.txt").splitlines()]
     except (OSError, subprocess.CalledProcessError):
         return None
-    return None if dirty else " ".join(trees)
+    if any(built_from(path) for path in dirty):
+        return None
+    h = hashlib.sha256()
+    for _mode, _kind, blob, path in blobs:
+        if built_from(path):
+            h.update(f"{path} {blob}\n".encode())
+    return h.hexdigest()
 
 
 def case_folder_digest(input_path):

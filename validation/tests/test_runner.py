@@ -111,6 +111,14 @@ class ResumedReport(unittest.TestCase):
         self.assertEqual(self.runs_made(exe)[0], 1, "uncommitted solver sources")
         self.assertEqual(self.runs_made(exe)[0], 1, "and never recorded while they stay so")
 
+    def test_the_solver_tests_and_notes_are_not_what_it_is_built_from(self):
+        exe = counting_narwhal(self.root)
+        self.runs_made(exe)
+        (self.root / "solver" / "tests").mkdir()
+        (self.root / "solver" / "tests" / "new_test.cpp").write_text("TEST\n")
+        (self.root / "solver" / "DESIGN.md").write_text("why\n")
+        self.assertEqual(self.runs_made(exe)[0], 0)
+
     def test_a_diverged_run_is_not_reused(self):
         exe = counting_narwhal(self.root, exit_code=3)
         self.runs_made(exe)
