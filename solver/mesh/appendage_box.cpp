@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "mesh/grid_quality.hpp"
+#include "mesh/level_stack.hpp"
 #include "mesh/meridian.hpp"
 
 namespace narwhal {
@@ -126,31 +127,6 @@ Vec3 to_space(const AppendageBox& box, const LevelChart& c, int k, const Point& 
 Point to_chart(const AppendageBox& box, const LevelChart& c, Real station, const Vec3& x) {
   const Real r = box.level(station, c.k)[1];
   return {c.to_sigma(station), r * std::remainder(std::atan2(x[2], x[1]) - box.plane, 2.0 * kPi)};
-}
-
-// Everything of one level: the O-grid's nodes in space (ring[t][s]) and, at and above
-// the tip, the section's interior.
-struct Level {
-  std::vector<std::vector<Vec3>> ring;
-  std::vector<std::vector<Vec3>> cap_ring;  // [t][s], inwards from the section
-  std::vector<std::vector<Vec3>> core;      // [a][b]
-  std::array<int, 5> split{};
-};
-
-// The core's edges as the cap ring's innermost nodes (the same chart points, mapped alike),
-// bit for bit.
-void tie_core_to_cap_ring(Level& lv) {
-  const auto& edge = lv.cap_ring.back();
-  const int around = lv.split[4];
-  const int na = static_cast<int>(lv.core.size()) - 1, nb = static_cast<int>(lv.core.front().size()) - 1;
-  for (int q = 0; q <= na; ++q) {
-    lv.core[static_cast<std::size_t>(q)].front() = edge[static_cast<std::size_t>(around - q)];
-    lv.core[static_cast<std::size_t>(q)].back() = edge[static_cast<std::size_t>(lv.split[1] + q)];
-  }
-  for (int q = 0; q <= nb; ++q) {
-    lv.core.front()[static_cast<std::size_t>(q)] = edge[static_cast<std::size_t>(q)];
-    lv.core.back()[static_cast<std::size_t>(q)] = edge[static_cast<std::size_t>(lv.split[3] - q)];
-  }
 }
 
 Level make_level(const AppendageBox& box, int k, const LevelChart& tip) {
@@ -399,72 +375,13 @@ void deflect_levels(const AppendageBox& box, std::vector<Level>& lv) {
   }
 }
 
-// The signed volume of a block's middle cell (its handedness).
-Real middle_cell_volume(const Block& b) {
-  const int i = b.ni / 2, j = b.nj / 2, k = b.nk / 2;
-  Vec3 e[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-  for (int a = 0; a <= 1; ++a)
-    for (int c = 0; c <= 1; ++c) {
-      e[0] += b.x(i + 1, j + a, k + c) - b.x(i, j + a, k + c);
-      e[1] += b.x(i + a, j + 1, k + c) - b.x(i + a, j, k + c);
-      e[2] += b.x(i + a, j + c, k + 1) - b.x(i + a, j + c, k);
-    }
-  return e[0].dot(e[1].cross(e[2]));
-}
-
-void add_patch(Block& b, int side, const std::string& label) {
-  Patch p;
-  p.side = side;
-  p.lo = {0, 0, 0};
-  p.hi = b.dims();
-  p.label = label;
-  b.patches.push_back(p);
-}
-
-// A block of an O-type ring (the O's outwards, the cap's inwards) between ring positions
-// [s0, s0 + cells] and levels [k0, k1]; i runs along the ring (reversed if that keeps the
-// block right-handed), j across it.
-template <class Ring>
-Block ring_block(const std::vector<Level>& levels, Ring ring, const std::string& name, int s0, int cells, int k0, int k1) {
-  const int n = static_cast<int>(ring(levels[static_cast<std::size_t>(k0)]).size()) - 1;
-  for (const bool reversed : {false, true}) {
-    Block b(name, cells, n, k1 - k0);
-    for (int k = k0; k <= k1; ++k) {
-      const auto& r = ring(levels[static_cast<std::size_t>(k)]);
-      for (int t = 0; t <= n; ++t)
-        for (int i = 0; i <= cells; ++i) {
-          const int s = s0 + (reversed ? cells - i : i);
-          b.x(i, t, k - k0) = r[static_cast<std::size_t>(t)][static_cast<std::size_t>(s)];
-        }
-    }
-    if (middle_cell_volume(b) > 0.0) return b;
-  }
-  fail("appendage box: block '{}' is folded", name);
-}
-
-// The cap's core, its half on one side of the section's mean line, b in [b0, b0 + cells].
-Block core_block(const std::vector<Level>& levels, const std::string& name, int b0, int cells, int k0, int k1) {
-  const int na = static_cast<int>(levels[static_cast<std::size_t>(k0)].core.size()) - 1;
-  for (const bool reversed : {false, true}) {
-    Block b(name, na, cells, k1 - k0);
-    for (int k = k0; k <= k1; ++k)
-      for (int bb = 0; bb <= cells; ++bb)
-        for (int a = 0; a <= na; ++a) {
-          const int q = b0 + (reversed ? cells - bb : bb);
-          b.x(a, bb, k - k0) =
-              levels[static_cast<std::size_t>(k)].core[static_cast<std::size_t>(a)][static_cast<std::size_t>(q)];
-        }
-    if (middle_cell_volume(b) > 0.0) return b;
-  }
-  fail("appendage box: block '{}' is folded", name);
-}
-
 std::vector<Block> assemble_box_blocks(const AppendageBox& box, const std::vector<Level>& lv, const std::string& name,
                                        const std::string& tag);
 
 }  // namespace
 
-std::vector<Block> make_appendage_box(const AppendageBox& box, const std::string& name, const std::string& tag) {
+std::vector<Block> make_appendage_box(const AppendageBox& box, const std::string& name, const std::string& tag,
+                                      std::vector<Level>* levels_out) {
   const int levels = static_cast<int>(box.top.size()) - 1;
   if (box.appendage == nullptr || levels < 1 || box.tip_level < 1 || box.tip_level >= levels)
     fail("appendage box '{}': needs the appendage and a tip level inside the levels", name);
@@ -506,11 +423,13 @@ std::vector<Block> make_appendage_box(const AppendageBox& box, const std::string
     // A deflection the box has no room for folds blocks: say so, with the deflection.
     try {
       deflect_levels(box, lv);
+      if (levels_out != nullptr) *levels_out = lv;
       return assemble_box_blocks(box, lv, name, tag);
     } catch (const Error& e) {
       fail("{}: {}", turned, e.what());
     }
   }
+  if (levels_out != nullptr) *levels_out = lv;
   return assemble_box_blocks(box, lv, name, tag);
 }
 
@@ -530,36 +449,34 @@ std::vector<Block> assemble_box_blocks(const AppendageBox& box, const std::vecto
   const Part parts[] = {{"fm", split[0], half_front}, {"fp", split[0] + half_front, half_front},
                         {"up", split[1], split[2] - split[1]},  {"bp", split[2], half_back},
                         {"bm", split[2] + half_back, half_back}, {"lo", split[3], split[4] - split[3]}};
-  auto o_ring = [](const Level& l) -> const std::vector<std::vector<Vec3>>& { return l.ring; };
-  auto cap_ring = [](const Level& l) -> const std::vector<std::vector<Vec3>>& { return l.cap_ring; };
   std::vector<Block> blocks;
   for (const Part& part : parts)
     for (const bool inner : {true, false}) {
       const int k0 = inner ? 0 : box.tip_level, k1 = inner ? box.tip_level : levels;
-      Block b = ring_block(lv, o_ring, fmt::format("{}_{}_{}", tag, part.name, inner ? "inner" : "outer"), part.s0,
+      Block b = ring_block(lv, RingOf::O, fmt::format("{}_{}_{}", tag, part.name, inner ? "inner" : "outer"), part.s0,
                            part.cells, k0, k1);
       if (inner) {
-        add_patch(b, 2, name);    // the appendage's side
-        add_patch(b, 4, "body");  // the hull
+        add_whole_side_patch(b, 2, name);    // the appendage's side
+        add_whole_side_patch(b, 4, "body");  // the hull
       } else {
-        add_patch(b, 5, "farfield");
+        add_whole_side_patch(b, 5, "farfield");
       }
       blocks.push_back(std::move(b));
     }
   // The cap over the tip: its ring in the O's six parts, its core halved along the mean
   // line to meet the ring's halved front and back.
   for (const Part& part : parts) {
-    Block b = ring_block(lv, cap_ring, fmt::format("{}_cap_{}", tag, part.name), part.s0, part.cells, box.tip_level,
+    Block b = ring_block(lv, RingOf::Cap, fmt::format("{}_cap_{}", tag, part.name), part.s0, part.cells, box.tip_level,
                          levels);
-    add_patch(b, 4, name);  // the tip
-    add_patch(b, 5, "farfield");
+    add_whole_side_patch(b, 4, name);  // the tip
+    add_whole_side_patch(b, 5, "farfield");
     blocks.push_back(std::move(b));
   }
   for (const bool plus : {false, true}) {
     Block b = core_block(lv, fmt::format("{}_cap_core{}", tag, plus ? "p" : "m"), plus ? half_front : 0,
                          half_front, box.tip_level, levels);
-    add_patch(b, 4, name);
-    add_patch(b, 5, "farfield");
+    add_whole_side_patch(b, 4, name);
+    add_whole_side_patch(b, 5, "farfield");
     blocks.push_back(std::move(b));
   }
   // A deflection the box has no room for folds cells whose volume may still be positive:

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "mesh/block.hpp"
+#include "mesh/level_stack.hpp"
 #include "mesh/section_ogrid.hpp"
 #include "mesh/suboff_geometry.hpp"
 
@@ -51,6 +52,9 @@ struct AppendageBox {
 // lower side); the cap `<tag>_cap_<part>` and `<tag>_cap_corem`/`corep` (CGNS allows zone
 // names of 32 characters: the tag is short). Wall patches are labelled `name` on the
 // appendage and its tip, "body" on the hull; "farfield" at the last level.
-std::vector<Block> make_appendage_box(const AppendageBox& box, const std::string& name, const std::string& tag);
+// With `levels_out`, the box's levels (k = 0 .. the last) are left there too: what a grid
+// that cuts the box further (the sail planes' tube) needs of it.
+std::vector<Block> make_appendage_box(const AppendageBox& box, const std::string& name, const std::string& tag,
+                                      std::vector<Level>* levels_out = nullptr);
 
 }  // namespace narwhal

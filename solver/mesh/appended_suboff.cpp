@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 #include "mesh/appendage_box.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/meridian.hpp"
+#include "mesh/sail_plane_tube.hpp"
 
 namespace narwhal {
 namespace {
@@ -270,6 +272,11 @@ Block make_sector_block(const Layout& lay, int sector) {
   return b;
 }
 
+bool is_sail_plane(const suboff::Appendage& a) {
+  const auto* fin = dynamic_cast<const suboff::Fin*>(&a);
+  return fin != nullptr && fin->shape().on_sail;
+}
+
 // The plane an appendage stands in: the sector boundary at q * 90 degrees.
 int plane_of(const suboff::Appendage& a) {
   const Vec3 span = suboff::to_grid_axes(a.span_direction);
@@ -286,7 +293,8 @@ std::array<int, 2> box_stations(const Layout& lay, bool sail) {
 // An appendage's box: box_half_width sector cells either side of its plane over its
 // stations, all levels (mesh/appendage_box.hpp). Sector q has the plane at j = na (its
 // columns na - w .. na are the +w side), sector q - 1 at j = 0.
-std::vector<Block> make_box(const std::vector<Block>& sectors, const Layout& lay, const suboff::Appendage& a) {
+std::vector<Block> make_box(const std::vector<Block>& sectors, const Layout& lay, const suboff::Appendage& a,
+                            std::vector<Level>* levels = nullptr) {
   const int na = lay.spec.cells_around, w = lay.spec.box_half_width, q = plane_of(a);
   const Block& plus = sectors[static_cast<std::size_t>(q)];
   const Block& minus = sectors[static_cast<std::size_t>((q + 3) % 4)];
@@ -333,7 +341,7 @@ std::vector<Block> make_box(const std::vector<Block>& sectors, const Layout& lay
                                                        {"starboard_stern_plane", "plane_sb"},
                                                        {"port_stern_plane", "plane_pt"}};
   const auto tag = tags.find(a.name());
-  return make_appendage_box(box, a.name(), tag == tags.end() ? a.name() : tag->second);
+  return make_appendage_box(box, a.name(), tag == tags.end() ? a.name() : tag->second, levels);
 }
 
 // The pole squares, as in body_of_revolution.cpp, with their meridians' lines.
@@ -348,21 +356,44 @@ Block make_pole_block(const Layout& lay, bool tail) {
 // Cut the sectors at the boxes' edges (along the hull and across each sector, so that
 // every face is whole) and at the tip level, the squares with them, and leave out the
 // pieces a box replaces.
-Grid cut_around_boxes(const std::vector<Block>& blocks, const Layout& lay, const suboff::Configuration& config) {
+// The sail planes' tube (the `full` configuration): its stations and levels, which every
+// sector piece is cut at too, and which pieces it replaces.
+struct TubeCuts {
+  int station_first = 0, station_last = 0, level_low = 0, level_mid = 0, level_high = 0;
+  bool active() const { return station_last > station_first; }
+};
+
+Grid cut_around_boxes(const std::vector<Block>& blocks, const Layout& lay, const suboff::Configuration& config,
+                      const TubeCuts& tube = {}) {
   static constexpr const char* stretch[] = {"bow", "sail", "middle", "fin", "stern"};
   static constexpr const char* across[] = {"low", "mid", "high"};
   const int na = lay.spec.cells_around, w = lay.spec.box_half_width;
   const auto sail = box_stations(lay, true), fin = box_stations(lay, false);
-  const std::vector<int> i_cuts{0, sail[0], sail[1], fin[0], fin[1], lay.nl};
+  std::vector<int> i_cuts{0, sail[0], sail[1], fin[0], fin[1], lay.nl};
   const std::vector<int> j_cuts{0, w, na - w, na};
-  const std::vector<int> k_cuts{0, lay.spec.cells_span, lay.nk};
+  std::vector<int> k_cuts{0, lay.spec.cells_span, lay.nk};
+  if (tube.active()) {
+    // Named by index beyond the stretches' names: the other configurations keep theirs.
+    i_cuts = {0, sail[0], tube.station_first, tube.station_last, sail[1], fin[0], fin[1], lay.nl};
+    k_cuts = {0, tube.level_low, tube.level_mid, tube.level_high, lay.spec.cells_span, lay.nk};
+  }
   auto boxed = [&](int sector, std::size_t a, std::size_t c) {
     for (const auto& ap : config.appendages) {
+      if (is_sail_plane(*ap)) continue;  // in the tube, not a box
       const int q = plane_of(*ap);
       const std::size_t in_stretch = ap->name() == "sail" ? 1 : 3;
       if (a == in_stretch && ((sector == q && c == 2) || (sector == (q + 3) % 4 && c == 0))) return true;
     }
     return false;
+  };
+  // The stretch of an i piece, in the five stretches' numbering (the tube's pieces of the
+  // sail's stretch count as the sail's).
+  auto stretch_of = [&](std::size_t a) -> std::size_t {
+    if (!tube.active()) return a;
+    return a <= 0 ? 0 : a <= 3 ? 1 : a - 2;
+  };
+  auto in_tube = [&](std::size_t a, std::size_t e) {
+    return tube.active() && (a == 2) && (e == 1 || e == 2);
   };
   Grid cut;
   for (const Block& b : blocks) {
@@ -372,17 +403,221 @@ Grid cut_around_boxes(const std::vector<Block>& blocks, const Layout& lay, const
     for (std::size_t a = 0; a + 1 < ic.size(); ++a)
       for (std::size_t c = 0; c + 1 < j_cuts.size(); ++c)
         for (std::size_t e = 0; e + 1 < k_cuts.size(); ++e) {
-          if (!square && boxed(sector, a, c)) continue;
+          if (!square && boxed(sector, stretch_of(a), c)) continue;
+          if (!square && in_tube(a, e)) continue;
           // Boxes as wide as half a sector leave no middle piece.
           if (j_cuts[c + 1] == j_cuts[c] || (square && ic[a + 1] == ic[a])) continue;
-          const std::string name = square ? fmt::format("{}_{}{}_{}", b.name, a, c, e == 0 ? "inner" : "outer")
-                                          : fmt::format("{}_{}_{}_{}", b.name, stretch[a], across[c],
-                                                        e == 0 ? "inner" : "outer");
+          const std::string level = tube.active() ? fmt::format("k{}", e) : e == 0 ? "inner" : "outer";
+          const std::string along = tube.active() && !square ? fmt::format("{}{}", stretch[stretch_of(a)], a)
+                                                            : std::string(square ? "" : stretch[a]);
+          const std::string name = square ? fmt::format("{}_{}{}_{}", b.name, a, c, level)
+                                          : fmt::format("{}_{}_{}_{}", b.name, along, across[c], level);
           cut.blocks.push_back(
               extract_block(b, name, {ic[a], j_cuts[c], k_cuts[e]}, {ic[a + 1], j_cuts[c + 1], k_cuts[e + 1]}));
         }
   }
   return cut;
+}
+
+// ---- The sail planes' tube (mesh/sail_plane_tube.hpp; mesh/DESIGN.md, "Sail planes") ----
+
+// The pieces of a block between consecutive index planes in each direction (each list
+// from 0 to the block's size), but those `drop` says the tube replaces; one piece keeps
+// the block's name.
+void cut_block(const Block& b, std::vector<int> ic, std::vector<int> jc, std::vector<int> kc,
+               const std::function<bool(const Index3& lo, const Index3& hi)>& drop, Grid& out) {
+  for (auto* c : {&ic, &jc, &kc}) {
+    std::sort(c->begin(), c->end());
+    c->erase(std::unique(c->begin(), c->end()), c->end());
+  }
+  const bool whole = ic.size() == 2 && jc.size() == 2 && kc.size() == 2;
+  for (std::size_t a = 0; a + 1 < ic.size(); ++a)
+    for (std::size_t c = 0; c + 1 < jc.size(); ++c)
+      for (std::size_t e = 0; e + 1 < kc.size(); ++e) {
+        const Index3 lo{ic[a], jc[c], kc[e]}, hi{ic[a + 1], jc[c + 1], kc[e + 1]};
+        if (drop(lo, hi)) continue;
+        out.blocks.push_back(extract_block(b, whole ? b.name : fmt::format("{}_{}{}{}", b.name, a, c, e), lo, hi));
+      }
+}
+
+// The i index of a block's node equal to p at (j, k) (the blocks of an O may run either way
+// along the ring).
+int local_i(const Block& b, int j, int k, const Vec3& p) {
+  for (int i = 0; i <= b.ni; ++i)
+    if (b.x(i, j, k) == p) return i;
+  fail("appended SUBOFF grid: internal: block '{}' has no node at the sail planes' tube", b.name);
+}
+
+Grid make_full(const AppendedSuboffSpec& spec, const suboff::Configuration& config) {
+  const Layout lay(spec);
+  const int na = spec.cells_around, w = spec.box_half_width, tip = spec.cells_span;
+  std::vector<Block> sectors;
+  for (int sector = 0; sector < 4; ++sector) sectors.push_back(make_sector_block(lay, sector));
+  const suboff::Appendage* sail = nullptr;
+  std::array<const suboff::Fin*, 2> planes{};  // starboard, port
+  std::vector<Block> boxes;
+  std::vector<Level> sail_levels;
+  for (const auto& a : config.appendages) {
+    if (is_sail_plane(*a)) {
+      planes[a->name() == "starboard_sail_plane" ? 0 : 1] = static_cast<const suboff::Fin*>(a.get());
+      continue;
+    }
+    if (a->name() == "sail") sail = a.get();
+    for (Block& b : make_box(sectors, lay, *a, a->name() == "sail" ? &sail_levels : nullptr)) boxes.push_back(std::move(b));
+  }
+  if (sail == nullptr || planes[0] == nullptr || planes[1] == nullptr)
+    fail("appended SUBOFF grid: the sail planes need the sail");
+  if (planes[0]->is_deflected() || planes[1]->is_deflected())
+    fail("appended SUBOFF grid: deflected sail planes are not meshed yet");
+
+  // The tube's cross-section: the stations half a root chord ahead of and behind the
+  // planes, the levels about their height, as many above as below.
+  const auto [first, last] = box_stations(lay, true);
+  const suboff::Fin& sb = *planes[0];
+  const Real root_span = suboff::Sail::kMaxHalfThickness, root_chord = sb.chord(root_span);
+  const Real x_front = (sb.leading_edge(root_span) - 0.5 * root_chord) * lay.ft;
+  const Real x_back = (sb.trailing_edge(root_span) + 0.5 * root_chord) * lay.ft;
+  auto station_x = [&](int i) { return lay.level(lay.st.s[static_cast<std::size_t>(i)], 0)[0]; };
+  int ia = first + 1, ib = last - 1;
+  while (ia + 1 < last && station_x(ia + 1) <= x_front) ++ia;
+  while (ib - 1 > first && station_x(ib - 1) >= x_back) --ib;
+  if (!(ia < ib) || station_x(ia) > x_front || station_x(ib) < x_back)
+    fail("appended SUBOFF grid: the sail's box has no room ahead of or behind the sail planes (stations {}..{})", first,
+         last);
+  const int i_mid = (ia + ib) / 2;
+  const Real s_mid = lay.st.s[static_cast<std::size_t>(i_mid)];
+  const Real height = suboff::SailPlaneDesign::kHeight * lay.ft;
+  int km = 1;
+  for (int k = 1; k < tip; ++k)
+    if (std::abs(lay.level(s_mid, k)[1] - height) < std::abs(lay.level(s_mid, km)[1] - height)) km = k;
+  int h = 2;
+  while (km - h > 1 && km + h < tip - 1 &&
+         std::min(lay.level(s_mid, km + h)[1] - lay.level(s_mid, km)[1],
+                  lay.level(s_mid, km)[1] - lay.level(s_mid, km - h)[1]) < 0.6 * root_chord * lay.ft)
+    h += 2;
+  if (km - h < 1 || km + h > tip - 1)
+    fail("appended SUBOFF grid: no room between the hull and the sail's tip for the sail planes' tube");
+  const TubeCuts cuts{ia, ib, km - h, km, km + h};
+
+  // The tube's levels: the sail box's starboard O layers outwards, the sectors' azimuthal
+  // planes round under the hull, the port O layers inwards.
+  const auto& split = sail_levels.front().split;
+  const int n = static_cast<int>(sail_levels.front().ring.size()) - 1;
+  auto ring_position = [&, first = first](bool port, int station) {
+    return port ? split[1] + (station - first) : split[4] - (station - first);
+  };
+  const Real plane_angle = 1.5 * kPi;  // the sail's plane, 270 degrees
+  const Real ft = lay.ft;
+  SailPlaneTube tube;
+  tube.planes = planes;
+  tube.feet = ft;
+  tube.station_first = ia, tube.station_last = ib;
+  tube.level_low = cuts.level_low, tube.level_mid = km, tube.level_high = cuts.level_high;
+  auto sail_layer = [&](bool port, int t) {
+    TubeLevel l;
+    l.node = [&sail_levels, t, port, ring_position](int station, int k) {
+      return sail_levels[static_cast<std::size_t>(k)].ring[static_cast<std::size_t>(t)]
+                        [static_cast<std::size_t>(ring_position(port, station))];
+    };
+    // The sail's side: its half-thickness across the plane, exactly.
+    const Real sign = port ? 1.0 : -1.0;
+    auto side = [sign, plane_angle, ft](Real x, Real r) {
+      return plane_angle + sign * std::asin(suboff::Sail::section_half_thickness(x / ft) * ft / r);
+    };
+    if (t == 0) {
+      l.azimuth = side;
+    } else {
+      std::vector<std::vector<Vec3>> patch;
+      for (int i = ia; i <= ib; ++i) {
+        std::vector<Vec3> column;
+        for (int k = cuts.level_low; k <= cuts.level_high; ++k) column.push_back(l.node(i, k));
+        patch.push_back(std::move(column));
+      }
+      l.azimuth = patch_azimuth(std::move(patch), side);
+    }
+    return l;
+  };
+  auto sector_layer = [&](int q, int j) {
+    TubeLevel l;
+    const Block* b = &sectors[static_cast<std::size_t>(q)];
+    l.node = [b, j](int station, int k) { return b->x(station, j, k); };
+    const Vec3 p = b->x(ia, j, 0);
+    const Real phi = std::atan2(p[2], p[1]);
+    l.azimuth = [phi](Real, Real) { return phi; };
+    return l;
+  };
+  std::vector<int> breaks;
+  for (int t = 0; t <= n; ++t) tube.levels.push_back(sail_layer(false, t));
+  auto sector_run = [&](int q, int j0, int j1) {
+    for (int j = j0 + 1; j <= j1; ++j) {
+      tube.levels.push_back(sector_layer(q, j));
+      if (j == w || j == na - w || j == j1) breaks.push_back(static_cast<int>(tube.levels.size()) - 1);
+    }
+  };
+  breaks.push_back(n);
+  sector_run(2, w, na);
+  sector_run(1, 0, na);
+  sector_run(0, 0, na);
+  sector_run(3, 0, na - w);
+  for (int t = n - 1; t >= 0; --t) tube.levels.push_back(sail_layer(true, t));
+  const int last_level = static_cast<int>(tube.levels.size()) - 1;
+  const int t_tip = tube_tip_level(tube, *planes[0], i_mid, 0, n, 1);
+  const int t_tip_port = last_level - tube_tip_level(tube, *planes[1], i_mid, last_level, last_level - n, -1);
+  if (t_tip != t_tip_port || t_tip < 2)
+    fail("appended SUBOFF grid: the sail planes' tips lie on different O layers ({} and {})", t_tip, t_tip_port);
+  tube.tips = {t_tip, last_level - t_tip};
+  tube.breaks = breaks;
+  tube.section_grid.cells_normal = spec.cells_section;
+  tube.section_grid.first_spacing = spec.fin_spacing;
+  tube.section_grid.layer = spec.section_layer;
+  tube.section_grid.leading_edge_spacing = spec.section_edge_spacing;
+  tube.section_grid.trailing_edge_spacing = spec.section_edge_spacing;
+  tube.cap_growth = spec.cap_growth;
+  std::vector<Block> tube_blocks = make_sail_plane_tube(tube, "sail");
+
+  // The hull's pieces round the boxes and the tube, then the boxes: the sail's cut where
+  // the tube meets it (its O blocks at the tips' layer, its sides and what lies on them at
+  // the tube's stations, its inner blocks at the tube's levels), the stern appendages'
+  // inner blocks at the tube's levels (they meet the sectors' pieces there).
+  for (const bool tail : {false, true}) sectors.push_back(make_pole_block(lay, tail));
+  Grid g = cut_around_boxes(sectors, lay, config, cuts);
+  for (const Block& b : boxes) {
+    const bool sail_box = b.name.rfind("sail_", 0) == 0;
+    const bool inner = b.name.size() > 6 && b.name.compare(b.name.size() - 6, 6, "_inner") == 0;
+    const bool outer = b.name.size() > 6 && b.name.compare(b.name.size() - 6, 6, "_outer") == 0;
+    std::vector<int> ic{0, b.ni}, jc{0, b.nj}, kc{0, b.nk};
+    if (inner)
+      for (const int k : {cuts.level_low, cuts.level_mid, cuts.level_high}) kc.push_back(k);
+    if (!sail_box) {
+      cut_block(b, ic, jc, kc, [](const Index3&, const Index3&) { return false; }, g);
+      continue;
+    }
+    if (inner || outer) jc.push_back(t_tip);
+    const bool side = b.name == "sail_up_inner" || b.name == "sail_lo_inner" || b.name == "sail_up_outer" ||
+                      b.name == "sail_lo_outer" || b.name == "sail_cap_up" || b.name == "sail_cap_lo";
+    const bool port = b.name.find("_up") != std::string::npos;
+    int i0 = -1, i1 = -1;
+    if (side) {
+      const int k_start = inner ? 0 : tip;
+      const auto& ring = sail_levels[static_cast<std::size_t>(k_start)].ring.front();
+      i0 = local_i(b, 0, 0, ring[static_cast<std::size_t>(ring_position(port, ia))]);
+      i1 = local_i(b, 0, 0, ring[static_cast<std::size_t>(ring_position(port, ib))]);
+      if (i0 > i1) std::swap(i0, i1);
+      ic.push_back(i0);
+      ic.push_back(i1);
+    } else if (b.name == "sail_cap_corem" || b.name == "sail_cap_corep") {
+      ic.push_back(ia - first);
+      ic.push_back(ib - first);
+    }
+    const bool replaced = side && inner;
+    cut_block(b, ic, jc, kc,
+              [&](const Index3& lo, const Index3& hi) {
+                return replaced && lo[0] >= i0 && hi[0] <= i1 && lo[2] >= cuts.level_low && hi[2] <= cuts.level_high;
+              },
+              g);
+  }
+  for (Block& b : tube_blocks) g.blocks.push_back(std::move(b));
+  return g;
 }
 
 }  // namespace
@@ -410,10 +645,7 @@ AppendedSuboffSpec scaled(const AppendedSuboffSpec& spec, Real scale) {
 }
 
 std::vector<std::string> appended_suboff_configurations() {
-  std::vector<std::string> meshed;
-  for (const auto& name : suboff::configuration_names())
-    if (name != "full") meshed.push_back(name);
-  return meshed;
+  return suboff::configuration_names();
 }
 
 Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
@@ -422,13 +654,13 @@ Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
   if (spec.box_half_width < 1 || 2 * spec.box_half_width > na)
     fail("appended SUBOFF grid: box_half_width ({}) must lie between 1 and half of cells_around ({})",
          spec.box_half_width, na);
-  if (spec.deflections.sail_planes != 0.0) fail("appended SUBOFF grid: the sail planes are not meshed yet");
   const auto meshed = appended_suboff_configurations();
   if (std::find(meshed.begin(), meshed.end(), spec.configuration) == meshed.end())
     fail("appended SUBOFF grid: configuration '{}' is not meshed (expected one of {})", spec.configuration,
          fmt::join(meshed, ", "));
   const suboff::Configuration config =
       suboff::make_configuration(spec.configuration, spec.deflections);
+  if (spec.configuration == "full") return make_full(spec, config);
 
   const Layout layout(spec);
   std::vector<Block> blocks;
