@@ -177,6 +177,11 @@ Level make_level(const AppendageBox& box, int k, const LevelChart& tip) {
   const auto& chart_top = box.top[static_cast<std::size_t>(chart.k)];
   const Vec3& middle = chart_top[chart_top.size() / 2];
   spec.outer_spacing = std::hypot(middle[1], middle[2]) * box.outer_angle;
+  if (box.knot_offset > 0.0) {
+    // The chart's w is r times the azimuth from the plane: the offset's at this level's r.
+    const Real r = box.level(0.5 * (box.stations.front() + box.stations.back()), chart.k)[1];
+    spec.knot_w = r * std::asin(box.knot_offset / r);
+  }
   // Far above the tip the lines from the widened outline may be shorter than the box's
   // spacing suggests: no more than a quarter of the mean spacing of the shortest.
   if (grown > 0.0) {
@@ -187,7 +192,17 @@ Level make_level(const AppendageBox& box, int k, const LevelChart& tip) {
     const Real cap = 0.25 * std::min(spec.outer_spacing, shortest / spec.cells_normal);
     spec.first_spacing += grown * (std::max(cap, spec.first_spacing) - spec.first_spacing);
   }
-  const ogrid::OGrid o = ogrid::make_section_ogrid(section, outline, spec);
+  if (grown > 0.0 && spec.knot_ring > 0) {
+    // Away above the tip the planes' ring keeps its place but not its clustering.
+    spec.knot_spacing += grown * (std::max(0.25 * spec.outer_spacing, spec.knot_spacing) - spec.knot_spacing);
+  }
+  const ogrid::OGrid o = [&] {
+    try {
+      return ogrid::make_section_ogrid(section, outline, spec);
+    } catch (const Error& e) {
+      fail("appendage box '{}', level {}: {}", a.name(), k, e.what());
+    }
+  }();
 
   Level lv;
   lv.split = o.split;

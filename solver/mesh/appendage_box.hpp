@@ -45,6 +45,9 @@ struct AppendageBox {
   // Raises the cap block's lowest nodes (the tip face) by this height at (x, w) (grid
   // units): the sail's elliptic cap over its uniform section. Null: a flat tip.
   std::function<Real(Real x, Real w)> crest;
+  // An O ring at this distance across the plane (grid units), clustered with this spacing
+  // either side (ogrid::Spec's knot): where the sail planes' tips lie. 0: none.
+  Real knot_offset = 0.0;
 };
 
 // The box's blocks, named `<tag>_<part>_inner` (hull to tip) and `_outer` (tip to far

@@ -293,8 +293,25 @@ std::array<int, 2> box_stations(const Layout& lay, bool sail) {
 // An appendage's box: box_half_width sector cells either side of its plane over its
 // stations, all levels (mesh/appendage_box.hpp). Sector q has the plane at j = na (its
 // columns na - w .. na are the +w side), sector q - 1 at j = 0.
+// The sail's O with the sail planes (`full`): beyond its wall layer (cells_section / 2
+// cells, as without them) as many cells again up to the ring at the planes' tips, clustered
+// there at the tip spacing, and cells_section more out to the box; counts that keep the
+// tube's pieces in fours.
+struct SailPlaneRings {
+  int cells_normal = 0, cells_layer = 0, knot_ring = 0;
+};
+SailPlaneRings sail_plane_rings(int cells_section) {
+  SailPlaneRings r;
+  r.cells_layer = cells_section / 2;
+  int to_knot = cells_section;
+  while ((r.cells_layer + to_knot) % 4 != 0) ++to_knot;
+  r.knot_ring = r.cells_layer + to_knot;
+  r.cells_normal = r.knot_ring + cells_section;
+  return r;
+}
+
 std::vector<Block> make_box(const std::vector<Block>& sectors, const Layout& lay, const suboff::Appendage& a,
-                            std::vector<Level>* levels = nullptr) {
+                            std::vector<Level>* levels = nullptr, bool sail_planes = false) {
   const int na = lay.spec.cells_around, w = lay.spec.box_half_width, q = plane_of(a);
   const Block& plus = sectors[static_cast<std::size_t>(q)];
   const Block& minus = sectors[static_cast<std::size_t>((q + 3) % 4)];
@@ -326,6 +343,14 @@ std::vector<Block> make_box(const std::vector<Block>& sectors, const Layout& lay
   box.section_grid.leading_edge_spacing = lay.spec.section_edge_spacing;
   box.section_grid.trailing_edge_spacing = lay.spec.section_edge_spacing;
   box.cap_growth = lay.spec.cap_growth;
+  if (sail_planes) {
+    const SailPlaneRings rings = sail_plane_rings(lay.spec.cells_section);
+    box.section_grid.cells_normal = rings.cells_normal;
+    box.section_grid.cells_layer = rings.cells_layer;
+    box.section_grid.knot_ring = rings.knot_ring;
+    box.section_grid.knot_spacing = lay.spec.tip_spacing;
+    box.knot_offset = suboff::SailPlaneDesign::kTipSpan * lay.ft;
+  }
   if (a.name() == "sail") {
     // The report's cap over the uniform section (§3): 2 (y - top) = sqrt(Z1^2 - z^2).
     const Real ft = lay.ft;
@@ -463,7 +488,8 @@ Grid make_full(const AppendedSuboffSpec& spec, const suboff::Configuration& conf
       continue;
     }
     if (a->name() == "sail") sail = a.get();
-    for (Block& b : make_box(sectors, lay, *a, a->name() == "sail" ? &sail_levels : nullptr)) boxes.push_back(std::move(b));
+    const bool is_sail = a->name() == "sail";
+    for (Block& b : make_box(sectors, lay, *a, is_sail ? &sail_levels : nullptr, is_sail)) boxes.push_back(std::move(b));
   }
   if (sail == nullptr || planes[0] == nullptr || planes[1] == nullptr)
     fail("appended SUBOFF grid: the sail planes need the sail");
@@ -561,11 +587,19 @@ Grid make_full(const AppendedSuboffSpec& spec, const suboff::Configuration& conf
   sector_run(3, 0, na - w);
   for (int t = n - 1; t >= 0; --t) tube.levels.push_back(sail_layer(true, t));
   const int last_level = static_cast<int>(tube.levels.size()) - 1;
-  const int t_tip = tube_tip_level(tube, *planes[0], i_mid, 0, n, 1);
-  const int t_tip_port = last_level - tube_tip_level(tube, *planes[1], i_mid, last_level, last_level - n, -1);
-  if (t_tip != t_tip_port || t_tip < 2)
-    fail("appended SUBOFF grid: the sail planes' tips lie on different O layers ({} and {})", t_tip, t_tip_port);
+  // The tips on the sail's O ring clustered at their span; a box too narrow for it keeps
+  // that ring short of the span (ogrid::Spec's knot), which is refused here.
+  const int t_tip = sail_plane_rings(spec.cells_section).knot_ring;
   tube.tips = {t_tip, last_level - t_tip};
+  for (const int l : tube.tips) {
+    const suboff::Fin& plane = *planes[l == t_tip ? 0 : 1];
+    const Vec3 p = tube.levels[static_cast<std::size_t>(l)].node(i_mid, km);
+    const Real span = plane.plane_coordinates(suboff::from_grid_axes(p / ft))[1];
+    if (std::abs(span - plane.shape().tip_span) > 1e-6)
+      fail("appended SUBOFF grid: the sail's box reaches {:.3f} ft from the sail's plane at the sail planes' height, "
+           "short of their {:.3f} ft span (widen grid.box_half_width)",
+           span, plane.shape().tip_span);
+  }
   tube.breaks = breaks;
   tube.section_grid.cells_normal = spec.cells_section;
   tube.section_grid.first_spacing = spec.fin_spacing;

@@ -257,7 +257,7 @@ std::function<Real(Real x, Real r)> patch_azimuth(std::vector<std::vector<Vec3>>
     int i = locate(ni, [&](int q) { return g[static_cast<std::size_t>(q)][static_cast<std::size_t>(nk / 2)].c[0]; }, x);
     int k = locate(nk, [&](int q) { return g[static_cast<std::size_t>(i)][static_cast<std::size_t>(q)].c[1]; }, r);
     Real a = 0.5, b = 0.5;
-    for (int move = 0; move < 8; ++move) {
+    for (int move = 0; move < ni + nk + 4; ++move) {
       const auto& p00 = g[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
       const auto& p10 = g[static_cast<std::size_t>(i + 1)][static_cast<std::size_t>(k)];
       const auto& p01 = g[static_cast<std::size_t>(i)][static_cast<std::size_t>(k + 1)];
@@ -273,15 +273,20 @@ std::function<Real(Real x, Real r)> patch_azimuth(std::vector<std::vector<Vec3>>
         a -= step_a, b -= step_b;
         if (std::abs(step_a) + std::abs(step_b) < 1e-15) break;
       }
-      const int di = a < 0.0 && i > 0 ? -1 : a > 1.0 && i + 1 < ni ? 1 : 0;
-      const int dk = b < 0.0 && k > 0 ? -1 : b > 1.0 && k + 1 < nk ? 1 : 0;
+      // On a cell's edge round-off may put the point either side: a hair outside counts.
+      constexpr Real hair = 1e-9;
+      const int di = a < -hair && i > 0 ? -1 : a > 1.0 + hair && i + 1 < ni ? 1 : 0;
+      const int dk = b < -hair && k > 0 ? -1 : b > 1.0 + hair && k + 1 < nk ? 1 : 0;
       if (di == 0 && dk == 0) {
         return base(x, r) + (1 - a) * (1 - b) * p00.phi + a * (1 - b) * p10.phi + (1 - a) * b * p01.phi +
                a * b * p11.phi;
       }
       i += di, k += dk;
     }
-    fail("sail planes' tube: chart point ({:.6g}, {:.6g}) not found on a layer", x, r);
+    fail("sail planes' tube: chart point ({:.6g}, {:.6g}) not found on a layer (patch x {:.6g}..{:.6g}, r {:.6g}..{:.6g}; "
+         "last cell {} {}, a {:.3g} b {:.3g})",
+         x, r, g.front()[static_cast<std::size_t>(nk / 2)].c[0], g.back()[static_cast<std::size_t>(nk / 2)].c[0],
+         g[static_cast<std::size_t>(ni / 2)].front().c[1], g[static_cast<std::size_t>(ni / 2)].back().c[1], i, k, a, b);
   };
 }
 

@@ -178,27 +178,84 @@ OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spe
     const Point side = nodes[static_cast<std::size_t>(te_node + (k < 0 ? -fan - 1 : fan + 1))].normal;
     normal[at] = ((1.0 - f) * nodes[static_cast<std::size_t>(te_node)].normal + f * side).normalized();
   }
-  // The layer holds half the cells: with large first spacings (far above a tip) it
-  // thickens to keep them growing.
-  const int in_layer = nn / 2;
+  // The layer holds half the cells (or cells_layer): with large first spacings (far above
+  // a tip) it thickens to keep them growing.
+  const int in_layer = spec.cells_layer > 0 ? spec.cells_layer : nn / 2;
   const Real common_layer = std::max(spec.layer, 2.0 * in_layer * spec.first_spacing);
+  const bool knotted = spec.knot_ring > 0;
+  if (knotted && !(spec.knot_ring > in_layer && spec.knot_ring < nn && spec.knot_w > 0.0 && spec.knot_spacing > 0.0))
+    fail("section O-grid: the knot ring ({}) must lie between the layer's {} cells and the box's {}, at a positive "
+         "distance and spacing",
+         spec.knot_ring, in_layer, nn);
+  // Each line's layer, the point it turns at, and (with a knot) the knot's distance along it.
+  struct Line {
+    Real layer, rest, length, knot = 0.0;
+    Point turn_at;
+  };
+  std::vector<Line> lines(static_cast<std::size_t>(around));
+  for (int s = 0; s < around; ++s) {
+    const std::size_t us = static_cast<std::size_t>(s);
+    const Point q = outer[us];
+    // A line shorter than twice the layer (a box side close to an edge) leaves along the
+    // normal for half its length only.
+    Line& l = lines[us];
+    l.layer = std::min(common_layer, 0.5 * (q - nodes[us].x).norm());
+    l.turn_at = nodes[us].x + l.layer * normal[us];
+    l.rest = (q - l.turn_at).norm();
+    l.length = l.layer + l.rest;
+    if (!(l.rest > 0.0) || !(l.length > 2.0 * nn * spec.first_spacing))
+      fail("section O-grid: line {} from the section to the box is too short ({:.3g}) for {} cells from {:.3g}", s,
+           l.length, nn, spec.first_spacing);
+  }
+  if (knotted) {
+    const int upper_end = o.split[2], lower_start = o.split[3];
+    auto on_side = [&](int s) { return (s >= o.split[1] && s <= upper_end) || s >= lower_start || s == 0; };
+    for (int s = 0; s < around; ++s) {
+      if (!on_side(s)) continue;
+      Line& l = lines[static_cast<std::size_t>(s)];
+      const Real w_turn = l.turn_at[1], w_box = outer[static_cast<std::size_t>(s)][1];
+      const Real target = (w_box > w_turn ? 1.0 : -1.0) * spec.knot_w;
+      // Where the box is narrower than the knot's distance (near a hull that narrows the
+      // box: levels away from the planes) the ring keeps to the lines' last tenth.
+      const Real lambda = std::clamp((target - w_turn) / (w_box - w_turn), 0.1, 0.9);
+      l.knot = l.layer + lambda * l.rest;
+    }
+    // The arcs' lines: the fraction of their length at their junctions' lines, blended.
+    auto blend = [&](int from, int to) {
+      const Line &a = lines[static_cast<std::size_t>(from % around)], &b = lines[static_cast<std::size_t>(to % around)];
+      for (int s = from + 1; s < to; ++s) {
+        const Real f = static_cast<Real>(s - from) / (to - from);
+        Line& l = lines[static_cast<std::size_t>(s)];
+        l.knot = ((1.0 - f) * a.knot / a.length + f * b.knot / b.length) * l.length;
+      }
+    };
+    blend(0, o.split[1]);
+    blend(upper_end, lower_start);
+  }
   for (int s = 0; s < around; ++s) {
     const std::size_t us = static_cast<std::size_t>(s);
     const SectionNode& p = nodes[us];
     const Point q = outer[us];
-    // A line shorter than twice the layer (a box side close to an edge) leaves along the
-    // normal for half its length only.
-    const Real layer = std::min(common_layer, 0.5 * (q - p.x).norm());
-    const Point turn_at = p.x + layer * normal[us];
-    const Real rest = (q - turn_at).norm(), length = layer + rest;
-    if (!(rest > 0.0) || !(length > 2.0 * nn * spec.first_spacing))
-      fail("section O-grid: line {} from the section to the box is too short ({:.3g}) for {} cells from {:.3g}", s,
-           length, nn, spec.first_spacing);
+    const Line& l = lines[us];
+    const Real layer = l.layer, rest = l.rest, length = l.length;
+    const Point turn_at = l.turn_at;
     // Half the cells in the layer, growing geometrically alike on every line (so the rings
     // there are the section's offset curves), half from the layer to the box, continuing
     // the growth.
     std::vector<Real> d;
-    if (layer == common_layer && in_layer >= 2) {
+    if (knotted) {
+      if (!(layer == common_layer && in_layer >= 2 && l.knot > layer && l.knot < length))
+        fail("section O-grid: line {}'s knot ({:.4g}) does not lie between its layer and the box", s, l.knot);
+      d = geometric_nodes(0.0, layer, in_layer, spec.first_spacing);
+      const std::size_t e = static_cast<std::size_t>(in_layer);
+      const Real growth = (d[e] - d[e - 1]) / (d[e - 1] - d[e - 2]);
+      const auto to_knot = fitted_nodes(layer, l.knot, spec.knot_ring - in_layer, growth * (d[e] - d[e - 1]),
+                                        spec.knot_spacing);
+      const auto beyond = fitted_nodes(l.knot, length, nn - spec.knot_ring, spec.knot_spacing,
+                                       std::min(spec.outer_spacing, (length - l.knot) / (nn - spec.knot_ring)));
+      d.insert(d.end(), to_knot.begin() + 1, to_knot.end());
+      d.insert(d.end(), beyond.begin() + 1, beyond.end());
+    } else if (layer == common_layer && in_layer >= 2) {
       d = geometric_nodes(0.0, layer, in_layer, spec.first_spacing);
       const std::size_t e = static_cast<std::size_t>(in_layer);
       const Real growth = (d[e] - d[e - 1]) / (d[e - 1] - d[e - 2]);

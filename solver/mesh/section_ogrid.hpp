@@ -51,6 +51,14 @@ struct Spec {
   Real trailing_edge_spacing = 1e-3;  // and at the trailing edge
   Real layer = 0.05;             // the lines leave along the section's normal for this distance
   int trailing_edge_fan = 3;     // nodes either side of the sharp edge whose normals fan
+  int cells_layer = 0;           // cells within `layer` (0: half of cells_normal)
+  // A ring clustered at a distance across the section's plane: on the sides' lines it lies
+  // at |w| = knot_w, with spacing knot_spacing either side (the sail planes' tips lie on
+  // it: mesh/sail_plane_tube.hpp); the arcs' lines take it at the fraction of their length
+  // their junctions' lines have, blended across. 0: none.
+  int knot_ring = 0;
+  Real knot_w = 0.0;
+  Real knot_spacing = 0.0;
 };
 
 struct OGrid {

@@ -136,7 +136,8 @@ inline Real relative_free_stream_residual(Grid& g) {
 // The appended SUBOFF at 8 cells a stretch: every block of the production topology, small.
 // The wall labels of the appended grid's appendages (mesh/appended_suboff.hpp), the hull's being "body".
 inline const std::vector<std::string> kAppendageLabels{"sail", "upper_rudder", "lower_rudder",
-                                                       "starboard_stern_plane", "port_stern_plane"};
+                                                       "starboard_stern_plane", "port_stern_plane",
+                                                       "starboard_sail_plane", "port_sail_plane"};
 
 inline AppendedSuboffSpec small_appended_spec(const std::string& configuration) {
   AppendedSuboffSpec s;
@@ -158,6 +159,9 @@ inline AppendedSuboffSpec small_appended_spec(const std::string& configuration) 
   s.leading_edge_spacing = 2e-3;
   s.trailing_edge_spacing = 2e-3;
   s.pole_spacing = 1e-3;
+  // The sail planes' tips need the sail's box wider than their span at their height (the
+  // production grids' boxes are half a sector wide).
+  if (configuration == "full") s.box_half_width = 4;
   return s;
 }
 

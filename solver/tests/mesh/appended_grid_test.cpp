@@ -33,10 +33,11 @@ Grid finalized(const AppendedSuboffSpec& s) {
 TEST(AppendedSuboff, EveryConfigurationIsWholeFacedClosedAndPreservesTheFreeStream) {
   // The hull's grid in 156 blocks (four sectors in five stretches, three pieces across and
   // two along the wall lines; the squares in 3 x 3 x 2); each box replaces four of them by 20.
+  // `full` cuts them further round the sail planes' tube (mesh/sail_plane_tube.hpp).
   const std::map<std::string, std::size_t> blocks{{"bare", 156}, {"sail", 172}, {"stern4", 220}, {"sail_stern4", 236}};
   for (const std::string& c : appended_suboff_configurations()) {
     Grid g = finalized(test::small_appended_spec(c));
-    EXPECT_EQ(g.blocks.size(), blocks.at(c)) << c;
+    if (blocks.count(c) != 0) EXPECT_EQ(g.blocks.size(), blocks.at(c)) << c;
     // Tangential nodes 0 and 1: the caps' rings are a single cell across.
     for (const int node : {0, 1}) EXPECT_LT(test::interface_ghost_node_mismatch(g, node), 1e-12) << c;
     const Real r = test::relative_free_stream_residual(g);
@@ -47,15 +48,69 @@ TEST(AppendedSuboff, EveryConfigurationIsWholeFacedClosedAndPreservesTheFreeStre
   }
 }
 
-// `full` (the sail planes) is listed by the geometry but not meshed: refused by name.
-TEST(AppendedSuboff, TheUnmeshedConfigurationIsRefusedByName) {
-  EXPECT_EQ(appended_suboff_configurations(), (std::vector<std::string>{"bare", "sail", "stern4", "sail_stern4"}));
-  try {
-    make_appended_suboff(test::small_appended_spec("full"));
-    FAIL() << "expected an error";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("'full' is not meshed"), std::string::npos) << e.what();
-  }
+// The sail planes (`full`, mesh/sail_plane_tube.hpp): their section walls on the planes'
+// surfaces, their tip faces on the tube's tip level within the tip section, and the
+// tube's ends on the sail's side.
+TEST(AppendedSuboff, SailPlanesLieOnTheirSurfacesAndTheTubeEndsOnTheSail) {
+  const AppendedSuboffSpec s = test::small_appended_spec("full");
+  const Grid g = make_appended_suboff(s);
+  const suboff::Configuration config = suboff::make_configuration("full", {});
+  const Real ft = s.length / suboff::kOverallLength;
+  int section = 0, tip = 0, root = 0;
+  Real worst_section = 0.0, worst_root = 0.0, worst_inside_tip = 0.0, tip_span_low = 1e9, tip_span_high = 0.0;
+  for (const Block& b : g.blocks)
+    for (const Patch& p : b.patches) {
+      const bool plane = p.label.find("sail_plane") != std::string::npos;
+      const bool tube_root = p.label == "sail" && b.name.rfind("sp", 0) == 0;
+      if (!plane && !tube_root) continue;
+      const int d = side_dir(p.side);
+      const int fixed = side_high(p.side) ? b.n(d) : 0;
+      for (int v = p.lo[(d + 2) % 3]; v <= p.hi[(d + 2) % 3]; ++v)
+        for (int u = p.lo[(d + 1) % 3]; u <= p.hi[(d + 1) % 3]; ++u) {
+          Index3 n{};
+          n[d] = fixed;
+          n[(d + 1) % 3] = u;
+          n[(d + 2) % 3] = v;
+          const Vec3 x = b.x(n);
+          if (tube_root) {
+            // Across the sail's plane (grid y), its half-thickness at x.
+            worst_root = std::max(worst_root, std::abs(std::abs(x[1]) / ft - suboff::Sail::section_half_thickness(x[0] / ft)));
+            ++root;
+            continue;
+          }
+          const auto& a = *std::find_if(config.appendages.begin(), config.appendages.end(),
+                                        [&](const auto& q) { return q->name() == p.label; });
+          const auto& fin = static_cast<const suboff::Fin&>(*a);
+          const Vec3 c = fin.plane_coordinates(suboff::from_grid_axes(x / ft));
+          const Real s_in = std::min(c[1], fin.shape().tip_span * (1.0 - 1e-12));
+          if (b.name.find("cap") != std::string::npos || b.name.find("core") != std::string::npos) {
+            // The tip face: within the tip section, on the tube's tip level.
+            worst_inside_tip = std::max(worst_inside_tip, std::abs(c[2]) - fin.half_thickness(c[0], s_in));
+            tip_span_low = std::min(tip_span_low, c[1]);
+            tip_span_high = std::max(tip_span_high, c[1]);
+            ++tip;
+          } else {
+            // The section: |n| = t(x, s); at the edges, where t grows like a square root, the
+            // distance to the edge.
+            const Real miss = std::abs(c[2]) < 1e-12
+                                  ? std::min(std::abs(c[0] - fin.leading_edge(s_in)), std::abs(c[0] - fin.trailing_edge(s_in)))
+                                  : std::abs(std::abs(c[2]) - fin.half_thickness(c[0], s_in));
+            worst_section = std::max(worst_section, miss);
+            ++section;
+          }
+        }
+    }
+  EXPECT_GT(section, 2 * 8 * 8);
+  EXPECT_GT(tip, 2 * 8 * 8);
+  EXPECT_GT(root, 2 * 8 * 8);
+  EXPECT_LT(worst_section, 1e-9);  // feet
+  EXPECT_LT(worst_inside_tip, 1e-9);
+  EXPECT_LT(worst_root, 1e-9);
+  // The tip lies on one of the sail box's O layers: inside the design's span, within a
+  // layer's spacing of it.
+  EXPECT_LE(tip_span_high, suboff::SailPlaneDesign::kTipSpan);
+  RecordProperty("sail_plane_tip_span_ft", fmt::format("{:.4f}..{:.4f}", tip_span_low, tip_span_high));
+  RecordProperty("largest_offset_from_sail_plane_ft", fmt::format("{:.2e}", worst_section));
 }
 
 // Each appendage's wall nodes lie on its surface (|n| = t(x, s) in its own plane) or on
