@@ -156,7 +156,9 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
   const Deflection deflections[] = {
       {"rudder_deflection", &a.deflections.rudder, "upper_rudder", "the rudders' angle in degrees (positive: trailing edges to port)"},
       {"stern_plane_deflection", &a.deflections.stern_planes, "starboard_stern_plane",
-       "the stern planes' angle in degrees (positive: trailing edges down)"}};
+       "the stern planes' angle in degrees (positive: trailing edges down)"},
+      {"sail_plane_deflection", &a.deflections.sail_planes, "starboard_sail_plane",
+       "the sail planes' angle in degrees (positive: trailing edges down)"}};
   for (const Deflection& d : deflections) {
     const std::string key = std::string("grid.") + d.key;
     const Real degrees = r.number_or(key, 0.0, d.what, Range::between(-30.0, 30.0));

@@ -493,8 +493,6 @@ Grid make_full(const AppendedSuboffSpec& spec, const suboff::Configuration& conf
   }
   if (sail == nullptr || planes[0] == nullptr || planes[1] == nullptr)
     fail("appended SUBOFF grid: the sail planes need the sail");
-  if (planes[0]->is_deflected() || planes[1]->is_deflected())
-    fail("appended SUBOFF grid: deflected sail planes are not meshed yet");
 
   // The tube's cross-section: the stations half a root chord ahead of and behind the
   // planes, the levels about their height, as many above as below.
@@ -559,7 +557,16 @@ Grid make_full(const AppendedSuboffSpec& spec, const suboff::Configuration& conf
         for (int k = cuts.level_low; k <= cuts.level_high; ++k) column.push_back(l.node(i, k));
         patch.push_back(std::move(column));
       }
-      l.azimuth = patch_azimuth(std::move(patch), side);
+      // The O's rings follow the side through its wall layer and lie across the plane at
+      // the tips' ring (ogrid's knot); between, a blend over the first half of the way,
+      // where the rings stand far apart: clustered round the knot, rings 1e-6 L apart
+      // interpolated alike (a blend there crossed them).
+      const SailPlaneRings rings = sail_plane_rings(spec.cells_section);
+      const Real follow =
+          1.0 - smoothstep(2.0 * static_cast<Real>(t - rings.cells_layer) / (rings.knot_ring - rings.cells_layer));
+      l.azimuth = patch_azimuth(
+          std::move(patch), [ft](Real x) { return suboff::Sail::section_half_thickness(x / ft) * ft; }, follow,
+          plane_angle, sign);
     }
     return l;
   };

@@ -17,7 +17,10 @@
 //   them) and at k_tip: every face is whole. All configurations share this grid outside
 //   the boxes (a configuration without an appendage keeps the hull grid's pieces in its
 //   box), which keeps the appendage increments free of grid changes elsewhere.
-// - Deflected control surfaces are refused (to come: the O regenerated in its box).
+// - Deflected control surfaces: the box's (or the tube's) grid deformed about the turned
+//   surface (mesh/appendage_box.hpp, mesh/sail_plane_tube.hpp).
+// - `full` adds the sail planes on the sail's sides, in a tube of their own round the hull
+//   (mesh/sail_plane_tube.hpp), which cuts the sail's box and every sector further.
 //
 // Coordinates: grid axes (motion/grid_axes.hpp): nose at x = 0, tail at x = length,
 // y to port, z down (the sail at -z). Patch labels: "body" (the hull), "farfield", and
@@ -32,7 +35,7 @@
 namespace narwhal {
 
 struct AppendedSuboffSpec {
-  std::string configuration = "bare";  // bare, sail, stern4, sail_stern4
+  std::string configuration = "bare";  // bare, sail, stern4, sail_stern4, full
   suboff::Deflections deflections;
   Real length = 1.0;        // the overall length in grid units
   // Cells along the hull, in five stretches between the pole squares:
@@ -80,8 +83,7 @@ struct AppendedSuboffSpec {
 // spacing from its cell count).
 AppendedSuboffSpec scaled(const AppendedSuboffSpec& spec, Real scale);
 
-// The configurations these grids mesh: suboff::configuration_names() but `full` (its sail
-// planes are not meshed yet).
+// The configurations these grids mesh: every one of suboff::configuration_names().
 std::vector<std::string> appended_suboff_configurations();
 
 Grid make_appended_suboff(const AppendedSuboffSpec& spec);

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "mesh/grid_quality.hpp"
 #include "mesh/level_stack.hpp"
 #include "mesh/meridian.hpp"
 
@@ -36,11 +37,10 @@ Real r_at_offset(const TubeLevel& level, const suboff::Fin& fin, Real feet, Real
   auto f = [&](Real r) { return plane_coordinates(fin, feet, to_space(level, {x, r}))[2] - n; };
   Real r0 = r_guess, f0 = f(r0);
   Real r1 = r_guess * (1.0 + 1e-4), f1 = f(r1);
-  for (int it = 0; it < 60 && f1 != 0.0 && f1 != f0; ++it) {
+  for (int it = 0; it < 100 && std::abs(f1) > 1e-15 && f1 != f0; ++it) {
     const Real r2 = r1 - f1 * (r1 - r0) / (f1 - f0);
     r0 = r1, f0 = f1;
     r1 = r2, f1 = f(r1);
-    if (std::abs(r1 - r0) < 1e-15 * r1) break;
   }
   if (!(std::abs(f1) < 1e-9)) fail("sail planes' tube: no point of a level at offset {:.4g} ft from '{}'", n, fin.name());
   return r1;
@@ -59,7 +59,9 @@ struct SectionOnLevel {
     Real s = std::min(plane_coordinates(fin, feet, to_space(level, {fin.leading_edge(0.0) * feet, r}))[1], tip);
     for (int it = 0; it < 50; ++it) {
       const Real x_ft = fin.leading_edge(s) + u * fin.chord(s);
-      const Real n = (upper ? -1.0 : 1.0) * fin.half_thickness(x_ft, s);
+      // At the edges exactly in the plane: the chord fraction's round-off under the leading
+      // edge's square root would put the two sides 2e-9 ft apart there.
+      const Real n = u <= 0.0 || u >= 1.0 ? 0.0 : (upper ? -1.0 : 1.0) * fin.half_thickness(x_ft, s);
       const Real x_new = x_ft * feet;
       r = r_at_offset(level, fin, feet, x_new, n, r);
       const Real s_new = std::min(plane_coordinates(fin, feet, to_space(level, {x_new, r}))[1], tip);
@@ -223,10 +225,132 @@ Level make_tube_level(const SailPlaneTube& tube, int l, const TipSections& tips)
   return lv;
 }
 
+// ---- Deflected sail planes (as the boxes' control surfaces, mesh/DESIGN.md) ----
+// A plane's levels turn about its stock by the deflection times a weight: 1 on the section
+// and through the O's wall layer (its first half), falling smoothly to 0 at the outline
+// (the host's nodes stay bit for bit); 1 from the root to the tip, falling over
+// cap_growth beyond it. The root level stays on the sail's side: each section column
+// slides along the turned surface by the span shift that puts its root node back on the
+// side, fading to nothing at the tip, and the rest of the root level moves across the
+// sail's plane onto the side, that correction fading over the span too.
+struct TurnedPlane {
+  const suboff::Fin& fin;
+  Real feet;
+  Vec3 plane(const Vec3& node) const { return fin.plane_coordinates(suboff::from_grid_axes(node / feet)); }
+  Vec3 grid(const Vec3& p) const { return suboff::to_grid_axes(p) * feet; }
+  Vec3 turn(const Vec3& node, Real angle) const {
+    const Vec3 c = plane(node);
+    return grid(fin.turned(c[0], c[1], c[2], angle));
+  }
+  Vec3 surface(Real xi, Real s, int side) const {
+    const Real x = fin.trailing_edge(s) + fin.chord(s) * (xi - 1.0);
+    return grid(fin.turned(x, s, side * fin.half_thickness(x, s), fin.deflection));
+  }
+  // How far a node lies outside the sail's side (grid units; grid y is across the sail).
+  Real off_sail(const Vec3& node) const {
+    return std::abs(node[1]) - suboff::Sail::section_half_thickness(node[0] / feet) * feet;
+  }
+};
+
+Real root_span_shift(const TurnedPlane& f, Real xi, Real s, int side) {
+  Real d0 = 0.0, g0 = f.off_sail(f.surface(xi, s, side));
+  Real d1 = g0 > 0.0 ? -1e-3 : 1e-3, g1 = f.off_sail(f.surface(xi, s + d1, side));
+  for (int it = 0; it < 40 && std::abs(g1) > 1e-14 * f.feet && g1 != g0; ++it) {
+    const Real d2 = d1 - g1 * (d1 - d0) / (g1 - g0);
+    d0 = d1, g0 = g1;
+    d1 = d2, g1 = f.off_sail(f.surface(xi, s + d1, side));
+  }
+  if (!(std::abs(g1) <= 1e-9 * f.feet))
+    fail("sail planes' tube: the deflected root of '{}' at chord fraction {:.3f} does not meet the sail", f.fin.name(), xi);
+  return d1;
+}
+
+void deflect_plane(const SailPlaneTube& tube, std::size_t which, std::vector<Level>& lv) {
+  const suboff::Fin& fin = *tube.planes[which];
+  if (!fin.is_deflected()) return;
+  if (!(tube.cap_growth > 0.0))
+    fail("sail planes' tube: a deflection needs cap_growth > 0 (the distance over which the turn fades)");
+  const TurnedPlane f{fin, tube.feet};
+  const int last = static_cast<int>(lv.size()) - 1, tip = tube.tips[which];
+  const int n = static_cast<int>(lv.front().ring.size()) - 1;
+  const std::size_t around = lv.front().ring.front().size();
+  // Levels counted from this plane's root; its half of the tube only.
+  auto level = [&](int depth) { return which == 0 ? depth : last - depth; };
+  const int tip_depth = which == 0 ? tip : last - tip, half = last / 2;
+  auto turn_weight = [&](int depth) {
+    if (depth <= tip_depth) return 1.0;
+    return 1.0 - revolution::smoothstep(beyond_tip(tube, level(depth)) / tube.cap_growth);
+  };
+  auto ring_weight = [&](int t) {
+    const int layer = n / 2;
+    return t <= layer ? 1.0 : 1.0 - revolution::smoothstep(static_cast<Real>(t - layer) / (n - layer));
+  };
+  // How far up the span a level lies, 0 at the root and 1 at the tip, by the distance of
+  // its mid node (the levels crowd towards the tip's clustered ring: by index, the root's
+  // corrections stopped 1e-5 ft short of it across levels 1e-6 ft apart, and folded them).
+  const int mid_station = (tube.station_first + tube.station_last) / 2;
+  const auto mid = [&](int depth) { return tube.levels[static_cast<std::size_t>(level(depth))].node(mid_station, tube.level_mid); };
+  const Real root_to_tip = (mid(tip_depth) - mid(0)).norm();
+  auto height = [&](int depth) { return depth >= tip_depth ? 1.0 : (mid(depth) - mid(0)).norm() / root_to_tip; };
+  const Level& root = lv[static_cast<std::size_t>(level(0))];
+  auto wall_coordinates = [&](const Vec3& node) {
+    const Vec3 c = f.plane(node);
+    return std::array<Real, 3>{fin.chord_fraction(c[0], c[1]), c[1], c[2] >= 0.0 ? 1.0 : -1.0};
+  };
+  std::vector<Real> root_shift(around);
+  for (std::size_t s = 0; s < around; ++s) {
+    const auto [xi, span, side] = wall_coordinates(root.ring.front()[s]);
+    root_shift[s] = root_span_shift(f, xi, span, static_cast<int>(side));
+  }
+  for (int depth = 0; depth <= half; ++depth) {
+    const Real weight = turn_weight(depth);
+    if (weight == 0.0) continue;
+    Level& l = lv[static_cast<std::size_t>(level(depth))];
+    const Real fade = 1.0 - revolution::smoothstep(height(depth));
+    std::vector<Vec3> slide(around, Vec3::Zero());
+    if (depth < tip_depth)
+      for (std::size_t s = 0; s < around; ++s) {
+        const auto [xi, span, side] = wall_coordinates(l.ring.front()[s]);
+        slide[s] = f.surface(xi, span + fade * root_shift[s], static_cast<int>(side)) -
+                   f.surface(xi, span, static_cast<int>(side));
+      }
+    for (int t = 0; t <= n; ++t) {
+      const Real w = ring_weight(t);
+      if (w == 0.0) continue;
+      for (std::size_t s = 0; s < around; ++s) {
+        Vec3& node = l.ring[static_cast<std::size_t>(t)][s];
+        node = f.turn(node, weight * w * fin.deflection) + w * slide[s];
+      }
+    }
+    for (auto* nodes : {&l.cap_ring, &l.core})
+      for (auto& row : *nodes)
+        for (Vec3& node : row) node = f.turn(node, weight * fin.deflection);
+  }
+  // The root level's nodes off the section back onto the sail's side, across its plane;
+  // the same correction fades over the span.
+  for (int t = 1; t < n; ++t)
+    for (std::size_t s = 0; s < around; ++s) {
+      const Real miss = f.off_sail(lv[static_cast<std::size_t>(level(0))].ring[static_cast<std::size_t>(t)][s]);
+      for (int depth = 0; depth < tip_depth; ++depth) {
+        Vec3& node = lv[static_cast<std::size_t>(level(depth))].ring[static_cast<std::size_t>(t)][s];
+        const Real by = miss * (1.0 - revolution::smoothstep(height(depth)));
+        node[1] -= (node[1] > 0.0 ? 1.0 : -1.0) * by;
+      }
+    }
+  // The nodes the rings and the cap share, bit for bit as make_tube_level had them.
+  for (int depth = 0; depth <= half; ++depth) {
+    Level& l = lv[static_cast<std::size_t>(level(depth))];
+    for (int t = 0; t < n; ++t) l.ring[static_cast<std::size_t>(t)].back() = l.ring[static_cast<std::size_t>(t)].front();
+    if (l.cap_ring.empty()) continue;
+    l.cap_ring.front() = l.ring.front();
+    tie_core_to_cap_ring(l);
+  }
+}
+
 }  // namespace
 
-std::function<Real(Real x, Real r)> patch_azimuth(std::vector<std::vector<Vec3>> nodes,
-                                                  std::function<Real(Real x, Real r)> base) {
+std::function<Real(Real x, Real r)> patch_azimuth(std::vector<std::vector<Vec3>> nodes, std::function<Real(Real x)> side,
+                                                  Real follow, Real plane, Real sign) {
   const int ni = static_cast<int>(nodes.size()) - 1, nk = ni >= 0 ? static_cast<int>(nodes.front().size()) - 1 : -1;
   if (ni < 1 || nk < 1) fail("sail planes' tube: a layer's patch needs at least one cell");
   struct Node {
@@ -237,12 +361,14 @@ std::function<Real(Real x, Real r)> patch_azimuth(std::vector<std::vector<Vec3>>
   for (const auto& column : nodes) {
     std::vector<Node> col;
     for (const Vec3& p : column) {
+      // The distance from the plane: r sin(phi - plane), beyond the side.
       const Point c = chart_of(p);
-      col.push_back({c, std::remainder(std::atan2(p[2], p[1]) - base(c[0], c[1]), 2.0 * revolution::kPi)});
+      const Real across = std::abs(c[1] * std::sin(std::atan2(p[2], p[1]) - plane));
+      col.push_back({c, across - follow * side(c[0])});
     }
     grid->push_back(std::move(col));
   }
-  return [grid, ni, nk, base](Real x, Real r) -> Real {
+  return [grid, ni, nk, side, follow, plane, sign](Real x, Real r) -> Real {
     const auto& g = *grid;
     // The column by x along the middle row, the row by r along that column; then Newton
     // on the cell's bilinear map, stepping to the neighbour the solution points to.
@@ -278,8 +404,8 @@ std::function<Real(Real x, Real r)> patch_azimuth(std::vector<std::vector<Vec3>>
       const int di = a < -hair && i > 0 ? -1 : a > 1.0 + hair && i + 1 < ni ? 1 : 0;
       const int dk = b < -hair && k > 0 ? -1 : b > 1.0 + hair && k + 1 < nk ? 1 : 0;
       if (di == 0 && dk == 0) {
-        return base(x, r) + (1 - a) * (1 - b) * p00.phi + a * (1 - b) * p10.phi + (1 - a) * b * p01.phi +
-               a * b * p11.phi;
+        const Real beyond = (1 - a) * (1 - b) * p00.phi + a * (1 - b) * p10.phi + (1 - a) * b * p01.phi + a * b * p11.phi;
+        return plane + sign * std::asin((follow * side(x) + beyond) / r);
       }
       i += di, k += dk;
     }
@@ -311,6 +437,14 @@ std::vector<Block> make_sail_plane_tube(const SailPlaneTube& tube, const std::st
   const auto tips = tip_sections(tube);
   std::vector<Level> lv;
   for (int l = 0; l <= last; ++l) lv.push_back(make_tube_level(tube, l, tips));
+  for (std::size_t p = 0; p < 2; ++p) {
+    try {
+      deflect_plane(tube, p, lv);
+    } catch (const Error& e) {
+      fail("'{}' deflected by {:.4g} degrees: {}", tube.planes[p]->name(), tube.planes[p]->deflection * 180.0 / revolution::kPi,
+           e.what());
+    }
+  }
 
   std::vector<int> cuts = tube.breaks;
   for (const int c : {0, tube.tips[0], tube.tips[1], last}) cuts.push_back(c);
@@ -351,6 +485,9 @@ std::vector<Block> make_sail_plane_tube(const SailPlaneTube& tube, const std::st
       blocks.push_back(std::move(blk));
     }
   }
+  // A deflection the tube has no room for folds cells whose volume may still be positive.
+  if (tube.planes[0]->is_deflected() || tube.planes[1]->is_deflected())
+    require_unfolded(measure_folds(blocks), "the deformed sail planes' tube");
   return blocks;
 }
 

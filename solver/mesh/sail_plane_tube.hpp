@@ -49,13 +49,16 @@ struct SailPlaneTube {
 };
 
 // The azimuth of the surface through a patch of a host's nodes (nodes[i][k]: i along x,
-// k outwards in r) at chart point (x, r): its offset from `base` (a surface the patch lies
-// close to: the sail's side) bilinear in the cell holding the point (its corners' (x, r)
-// inverted; the nearest cell's extension outside the patch), plus `base` there. Bilinear
-// azimuths alone cut into the curved side between the nodes by more than the first
-// layer's height.
-std::function<Real(Real x, Real r)> patch_azimuth(std::vector<std::vector<Vec3>> nodes,
-                                                  std::function<Real(Real x, Real r)> base);
+// k outwards in r) beside a plane through the axis at azimuth `plane` (on its `sign`
+// side: the sail's): each node's distance from that plane less `follow` times `side(x)`
+// (the sail's half-thickness) interpolated bilinearly in the chart cell holding the point
+// (its corners' (x, r) inverted; the nearest cell's extension outside the patch), and the
+// azimuth at that distance. A layer close to the side follows it (follow = 1: an
+// interpolated azimuth cut into the curved side between the nodes by more than the first
+// cell); the planes' tip layer, a plane across, follows nothing (interpolating its
+// distance beyond the side bowed it out by the side's sag between stations).
+std::function<Real(Real x, Real r)> patch_azimuth(std::vector<std::vector<Vec3>> nodes, std::function<Real(Real x)> side,
+                                                  Real follow, Real plane, Real sign);
 
 // The tube's blocks. Patch labels: each plane's name on its section and its tip, `root`
 // (the sail) at both ends.

@@ -185,6 +185,64 @@ TEST(AppendedSuboff, ARudderDeflectionsMirrorImageIsTheOppositeDeflection) {
   RecordProperty("largest_mirror_mismatch_L", fmt::format("{:.2e}", worst));
 }
 
+// The sail planes turned in their tube (mesh/sail_plane_tube.cpp): their section walls on
+// the turned planes, their roots still on the sail's side, nothing outside the tube moved,
+// no fold, and the free stream preserved.
+TEST(AppendedSuboff, DeflectedSailPlanesDeformOnlyTheirTube) {
+  const AppendedSuboffSpec straight = test::small_appended_spec("full");
+  for (const Real degrees : {-10.0, 10.0}) {
+    AppendedSuboffSpec s = straight;
+    s.deflections.sail_planes = degrees * kDegree;
+    Grid g = make_appended_suboff(s);
+    const Grid g0 = make_appended_suboff(straight);
+    ASSERT_EQ(g.blocks.size(), g0.blocks.size());
+    const suboff::Configuration config = suboff::make_configuration("full", s.deflections);
+    const Real ft = s.length / suboff::kOverallLength;
+    Real worst_section = 0.0, worst_root = 0.0;
+    int section = 0;
+    for_each_patch_node(g, [&](const Block& b, const Patch& p, const Vec3& x) {
+      if (p.label == "sail" && b.name.rfind("sp", 0) == 0) {
+        worst_root = std::max(worst_root, std::abs(std::abs(x[1]) / ft - suboff::Sail::section_half_thickness(x[0] / ft)));
+        return;
+      }
+      if (p.label.find("sail_plane") == std::string::npos || b.name.find("cap") != std::string::npos ||
+          b.name.find("core") != std::string::npos)
+        return;
+      const auto& fin = static_cast<const suboff::Fin&>(**std::find_if(
+          config.appendages.begin(), config.appendages.end(), [&](const auto& a) { return a->name() == p.label; }));
+      // Turned back about the stock, then |n| = t(x, s) in the plane (or on an edge).
+      const Vec3 c = fin.plane_coordinates(suboff::from_grid_axes(x / ft));
+      const Vec3 back = fin.plane_coordinates(fin.turned(c[0], c[1], c[2], -fin.deflection));
+      const Real s_in = std::min(back[1], fin.shape().tip_span * (1.0 - 1e-12));
+      const Real miss = std::abs(back[2]) < 1e-8
+                            ? std::hypot(std::min(std::abs(back[0] - fin.leading_edge(s_in)), std::abs(back[0] - fin.trailing_edge(s_in))), back[2])
+                            : std::abs(std::abs(back[2]) - fin.half_thickness(back[0], s_in));
+      worst_section = std::max(worst_section, miss);
+      ++section;
+    });
+    EXPECT_GT(section, 2 * 8 * 8) << degrees;
+    EXPECT_LT(worst_section, 1e-8) << degrees;  // feet: the turn and its inverse's round-off
+    EXPECT_LT(worst_root, 1e-9) << degrees;
+    // Outside the tube every block as the undeflected grid's, bit for bit.
+    for (std::size_t i = 0; i < g.blocks.size(); ++i) {
+      const Block &b = g.blocks[i], &a = g0.blocks[i];
+      if (b.name.rfind("sp", 0) == 0) continue;
+      bool same = a.dims() == b.dims();
+      for (int k = 0; same && k <= b.nk; ++k)
+        for (int j = 0; j <= b.nj; ++j)
+          for (int i2 = 0; i2 <= b.ni; ++i2) same = same && a.x(i2, j, k) == b.x(i2, j, k);
+      EXPECT_TRUE(same) << b.name;
+    }
+    for (const auto& label : test::kAppendageLabels) assign_bc(g, label, {BcType::Dirichlet});
+    assign_bc(g, "body", {BcType::Dirichlet});
+    assign_bc(g, "farfield", {BcType::Dirichlet});
+    finalize_grid(g);
+    EXPECT_LT(test::relative_free_stream_residual(g), 1e-12) << degrees;
+    RecordProperty(fmt::format("sail_planes_{}_quality", degrees),
+                   format_grid_quality(measure_grid_quality(g, {"starboard_sail_plane"}, 1.3e7)));
+  }
+}
+
 // Where the box has no room for the deflection, the grid is refused naming the box and the
 // block and cell that fold (a fin turned by 30 degrees in the small test grid's narrow box).
 TEST(AppendedSuboff, ADeflectionItsBoxCannotHoldIsRefusedByName) {
