@@ -9,6 +9,7 @@
 #include "mesh/grid_quality.hpp"
 #include "mesh/level_stack.hpp"
 #include "mesh/meridian.hpp"
+#include "mesh/turned_fin.hpp"
 
 namespace narwhal {
 namespace {
@@ -285,42 +286,6 @@ DeflectionWeights deflection_weights(const AppendageBox& box, int levels, int ce
   return w;
 }
 
-// The fin in grid units: its plane's coordinates of a node, a node turned about the stock,
-// and the deflected surface's point at a chord fraction and span.
-struct TurnedFin {
-  const suboff::Fin& fin;
-  Real feet;
-  Vec3 plane(const Vec3& node) const { return fin.plane_coordinates(suboff::from_grid_axes(node / feet)); }
-  Vec3 grid(const Vec3& p) const { return suboff::to_grid_axes(p) * feet; }
-  Vec3 turn(const Vec3& node, Real angle) const {
-    const Vec3 c = plane(node);
-    return grid(fin.turned(c[0], c[1], c[2], angle));
-  }
-  Vec3 surface(Real xi, Real s, int side) const {
-    const Real x = fin.trailing_edge(s) + fin.chord(s) * (xi - 1.0);
-    return grid(fin.turned(x, s, side * fin.half_thickness(x, s), fin.deflection));
-  }
-  // How far the hull node at radius r lies outside the hull (grid units).
-  Real off_hull(const Vec3& node) const {
-    return std::hypot(node[1], node[2]) - suboff::hull_radius(node[0] / feet) * feet;
-  }
-};
-
-// The span shift (feet) that puts the turned surface's point at (xi, s, side) on the hull:
-// secant steps from no shift.
-Real root_span_shift(const TurnedFin& f, Real xi, Real s, int side) {
-  Real d0 = 0.0, g0 = f.off_hull(f.surface(xi, s, side));
-  Real d1 = g0 > 0.0 ? -1e-3 : 1e-3, g1 = f.off_hull(f.surface(xi, s + d1, side));
-  for (int it = 0; it < 40 && std::abs(g1) > 1e-14 * f.feet && g1 != g0; ++it) {
-    const Real d2 = d1 - g1 * (d1 - d0) / (g1 - g0);
-    d0 = d1, g0 = g1;
-    d1 = d2, g1 = f.off_hull(f.surface(xi, s + d1, side));
-  }
-  if (!(std::abs(g1) <= 1e-9 * f.feet))
-    fail("appendage box '{}': the deflected root at chord fraction {:.3f} does not meet the hull", f.fin.name(), xi);
-  return d1;
-}
-
 void deflect_levels(const AppendageBox& box, std::vector<Level>& lv) {
   const suboff::Appendage& a = *box.appendage;
   if (!a.is_deflected()) return;
@@ -329,7 +294,11 @@ void deflect_levels(const AppendageBox& box, std::vector<Level>& lv) {
     fail("appendage box '{}': only control surfaces standing on the hull can be deflected", a.name());
   if (!(box.cap_growth > 0.0))
     fail("appendage box '{}': a deflection needs cap_growth > 0 (the height over which the turn fades)", a.name());
-  const TurnedFin f{*fin, box.feet};
+  const Real feet = box.feet;
+  // Off the hull: radially.
+  const TurnedFin f{*fin, feet, [feet](const Vec3& node) {
+                      return std::hypot(node[1], node[2]) - suboff::hull_radius(node[0] / feet) * feet;
+                    }};
   const int levels = static_cast<int>(lv.size()) - 1;
   const int n = static_cast<int>(lv.front().ring.size()) - 1;
   const std::size_t around = lv.front().ring.front().size();
@@ -372,7 +341,7 @@ void deflect_levels(const AppendageBox& box, std::vector<Level>& lv) {
   // correction fades over the span.
   for (int t = 1; t < n; ++t)
     for (std::size_t s = 0; s < around; ++s) {
-      const Real miss = f.off_hull(lv.front().ring[static_cast<std::size_t>(t)][s]);
+      const Real miss = f.off_root(lv.front().ring[static_cast<std::size_t>(t)][s]);
       for (int k = 0; k < box.tip_level; ++k) {
         Vec3& node = lv[static_cast<std::size_t>(k)].ring[static_cast<std::size_t>(t)][s];
         const Real r = std::hypot(node[1], node[2]);
@@ -456,16 +425,10 @@ std::vector<Block> assemble_box_blocks(const AppendageBox& box, const std::vecto
                                        const std::string& tag) {
   const int levels = static_cast<int>(lv.size()) - 1;
   const auto& split = lv.front().split;
-  const int half_front = (split[1] - split[0]) / 2, half_back = (split[3] - split[2]) / 2;
-  struct Part {
-    const char* name;
-    int s0, cells;
-  };
-  const Part parts[] = {{"fm", split[0], half_front}, {"fp", split[0] + half_front, half_front},
-                        {"up", split[1], split[2] - split[1]},  {"bp", split[2], half_back},
-                        {"bm", split[2] + half_back, half_back}, {"lo", split[3], split[4] - split[3]}};
+  const int half_front = (split[1] - split[0]) / 2;
+  const auto parts = ring_parts(split);
   std::vector<Block> blocks;
-  for (const Part& part : parts)
+  for (const RingPart& part : parts)
     for (const bool inner : {true, false}) {
       const int k0 = inner ? 0 : box.tip_level, k1 = inner ? box.tip_level : levels;
       Block b = ring_block(lv, RingOf::O, fmt::format("{}_{}_{}", tag, part.name, inner ? "inner" : "outer"), part.s0,
@@ -480,7 +443,7 @@ std::vector<Block> assemble_box_blocks(const AppendageBox& box, const std::vecto
     }
   // The cap over the tip: its ring in the O's six parts, its core halved along the mean
   // line to meet the ring's halved front and back.
-  for (const Part& part : parts) {
+  for (const RingPart& part : parts) {
     Block b = ring_block(lv, RingOf::Cap, fmt::format("{}_cap_{}", tag, part.name), part.s0, part.cells, box.tip_level,
                          levels);
     add_whole_side_patch(b, 4, name);  // the tip

@@ -36,6 +36,16 @@ void tie_core_to_cap_ring(Level& lv) {
   }
 }
 
+std::array<RingPart, 6> ring_parts(const std::array<int, 5>& split) {
+  const int half_front = (split[1] - split[0]) / 2, half_back = (split[3] - split[2]) / 2;
+  return {{{"fm", split[0], half_front},
+           {"fp", split[0] + half_front, half_front},
+           {"up", split[1], split[2] - split[1]},
+           {"bp", split[2], half_back},
+           {"bm", split[2] + half_back, half_back},
+           {"lo", split[3], split[4] - split[3]}}};
+}
+
 void add_whole_side_patch(Block& b, int side, const std::string& label) {
   Patch p;
   p.side = side;

@@ -25,6 +25,15 @@ void tie_core_to_cap_ring(Level& lv);
 
 enum class RingOf { O, Cap };
 
+// The O's six blocks along its ring: the front halved (fm: from the lower junction to the
+// leading edge, fp: on to the upper junction), the upper side (up), the back halved (bp,
+// bm) and the lower side (lo); `half_front` is also the cap core's half width.
+struct RingPart {
+  const char* name;
+  int s0, cells;
+};
+std::array<RingPart, 6> ring_parts(const std::array<int, 5>& split);
+
 // A block of an O-type ring (the O's outwards, the cap's inwards) between ring positions
 // [s0, s0 + cells] and levels [k0, k1]; i runs along the ring (reversed if that keeps the
 // block right-handed), j across it. Fails naming the block when both orientations fold.

@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "mesh/grid_quality.hpp"
 #include "mesh/level_stack.hpp"
+#include "mesh/turned_fin.hpp"
 #include "mesh/meridian.hpp"
 
 namespace narwhal {
@@ -233,44 +234,16 @@ Level make_tube_level(const SailPlaneTube& tube, int l, const TipSections& tips)
 // slides along the turned surface by the span shift that puts its root node back on the
 // side, fading to nothing at the tip, and the rest of the root level moves across the
 // sail's plane onto the side, that correction fading over the span too.
-struct TurnedPlane {
-  const suboff::Fin& fin;
-  Real feet;
-  Vec3 plane(const Vec3& node) const { return fin.plane_coordinates(suboff::from_grid_axes(node / feet)); }
-  Vec3 grid(const Vec3& p) const { return suboff::to_grid_axes(p) * feet; }
-  Vec3 turn(const Vec3& node, Real angle) const {
-    const Vec3 c = plane(node);
-    return grid(fin.turned(c[0], c[1], c[2], angle));
-  }
-  Vec3 surface(Real xi, Real s, int side) const {
-    const Real x = fin.trailing_edge(s) + fin.chord(s) * (xi - 1.0);
-    return grid(fin.turned(x, s, side * fin.half_thickness(x, s), fin.deflection));
-  }
-  // How far a node lies outside the sail's side (grid units; grid y is across the sail).
-  Real off_sail(const Vec3& node) const {
-    return std::abs(node[1]) - suboff::Sail::section_half_thickness(node[0] / feet) * feet;
-  }
-};
-
-Real root_span_shift(const TurnedPlane& f, Real xi, Real s, int side) {
-  Real d0 = 0.0, g0 = f.off_sail(f.surface(xi, s, side));
-  Real d1 = g0 > 0.0 ? -1e-3 : 1e-3, g1 = f.off_sail(f.surface(xi, s + d1, side));
-  for (int it = 0; it < 40 && std::abs(g1) > 1e-14 * f.feet && g1 != g0; ++it) {
-    const Real d2 = d1 - g1 * (d1 - d0) / (g1 - g0);
-    d0 = d1, g0 = g1;
-    d1 = d2, g1 = f.off_sail(f.surface(xi, s + d1, side));
-  }
-  if (!(std::abs(g1) <= 1e-9 * f.feet))
-    fail("sail planes' tube: the deflected root of '{}' at chord fraction {:.3f} does not meet the sail", f.fin.name(), xi);
-  return d1;
-}
-
 void deflect_plane(const SailPlaneTube& tube, std::size_t which, std::vector<Level>& lv) {
   const suboff::Fin& fin = *tube.planes[which];
   if (!fin.is_deflected()) return;
   if (!(tube.cap_growth > 0.0))
     fail("sail planes' tube: a deflection needs cap_growth > 0 (the distance over which the turn fades)");
-  const TurnedPlane f{fin, tube.feet};
+  const Real feet = tube.feet;
+  // Off the sail's side: across the sail's plane (grid y).
+  const TurnedFin f{fin, feet, [feet](const Vec3& node) {
+                      return std::abs(node[1]) - suboff::Sail::section_half_thickness(node[0] / feet) * feet;
+                    }};
   const int last = static_cast<int>(lv.size()) - 1, tip = tube.tips[which];
   const int n = static_cast<int>(lv.front().ring.size()) - 1;
   const std::size_t around = lv.front().ring.front().size();
@@ -330,7 +303,7 @@ void deflect_plane(const SailPlaneTube& tube, std::size_t which, std::vector<Lev
   // the same correction fades over the span.
   for (int t = 1; t < n; ++t)
     for (std::size_t s = 0; s < around; ++s) {
-      const Real miss = f.off_sail(lv[static_cast<std::size_t>(level(0))].ring[static_cast<std::size_t>(t)][s]);
+      const Real miss = f.off_root(lv[static_cast<std::size_t>(level(0))].ring[static_cast<std::size_t>(t)][s]);
       for (int depth = 0; depth < tip_depth; ++depth) {
         Vec3& node = lv[static_cast<std::size_t>(level(depth))].ring[static_cast<std::size_t>(t)][s];
         const Real by = miss * (1.0 - revolution::smoothstep(height(depth)));
@@ -451,19 +424,13 @@ std::vector<Block> make_sail_plane_tube(const SailPlaneTube& tube, const std::st
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
   const auto& split = lv.front().split;
-  const int half_front = (split[1] - split[0]) / 2, half_back = (split[3] - split[2]) / 2;
-  struct Part {
-    const char* name;
-    int s0, cells;
-  };
-  const Part parts[] = {{"fm", split[0], half_front}, {"fp", split[0] + half_front, half_front},
-                        {"up", split[1], split[2] - split[1]},  {"bp", split[2], half_back},
-                        {"bm", split[2] + half_back, half_back}, {"lo", split[3], split[4] - split[3]}};
+  const int half_front = (split[1] - split[0]) / 2;
+  const auto parts = ring_parts(split);
   std::vector<Block> blocks;
   for (std::size_t c = 0; c + 1 < cuts.size(); ++c) {
     const int a = cuts[c], b = cuts[c + 1];
     const int owner = b <= tube.tips[0] ? 0 : a >= tube.tips[1] ? 1 : -1;
-    for (const Part& part : parts) {
+    for (const RingPart& part : parts) {
       Block blk = ring_block(lv, RingOf::O, fmt::format("{}{}_{}", tube.tag, c, part.name), part.s0, part.cells, a, b);
       if (owner >= 0) add_whole_side_patch(blk, 2, tube.planes[static_cast<std::size_t>(owner)]->name());
       if (a == 0) add_whole_side_patch(blk, 4, root);
@@ -473,7 +440,7 @@ std::vector<Block> make_sail_plane_tube(const SailPlaneTube& tube, const std::st
     if (owner >= 0) continue;
     // Between the tips: the cap's ring and core, the tips' faces at their ends.
     std::vector<Block> cap;
-    for (const Part& part : parts)
+    for (const RingPart& part : parts)
       cap.push_back(ring_block(lv, RingOf::Cap, fmt::format("{}{}_cap_{}", tube.tag, c, part.name), part.s0,
                                part.cells, a, b));
     for (const bool plus : {false, true})

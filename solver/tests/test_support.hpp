@@ -133,6 +133,23 @@ inline Real relative_free_stream_residual(Grid& g) {
   return worst;
 }
 
+// Every node of every patch of a grid, with its block and patch.
+template <class Visit>
+void for_each_patch_node(const Grid& g, Visit&& visit) {
+  for (const Block& b : g.blocks)
+    for (const Patch& p : b.patches) {
+      const int d = side_dir(p.side);
+      for (int v = p.lo[(d + 2) % 3]; v <= p.hi[(d + 2) % 3]; ++v)
+        for (int u = p.lo[(d + 1) % 3]; u <= p.hi[(d + 1) % 3]; ++u) {
+          Index3 n{};
+          n[d] = side_high(p.side) ? b.n(d) : 0;
+          n[(d + 1) % 3] = u;
+          n[(d + 2) % 3] = v;
+          visit(b, p, b.x(n));
+        }
+    }
+}
+
 // The appended SUBOFF at 8 cells a stretch: every block of the production topology, small.
 // The wall labels of the appended grid's appendages (mesh/appended_suboff.hpp), the hull's being "body".
 inline const std::vector<std::string> kAppendageLabels{"sail", "upper_rudder", "lower_rudder",

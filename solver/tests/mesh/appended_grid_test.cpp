@@ -60,48 +60,38 @@ TEST(AppendedSuboff, SailPlanesLieOnTheirSurfacesAndTheTubeEndsOnTheSail) {
   const Real ft = s.length / suboff::kOverallLength;
   int section = 0, tip = 0, root = 0;
   Real worst_section = 0.0, worst_root = 0.0, worst_inside_tip = 0.0, tip_span_low = 1e9, tip_span_high = 0.0;
-  for (const Block& b : g.blocks)
-    for (const Patch& p : b.patches) {
-      const bool plane = p.label.find("sail_plane") != std::string::npos;
-      const bool tube_root = p.label == "sail" && b.name.rfind("sp", 0) == 0;
-      if (!plane && !tube_root) continue;
-      const int d = side_dir(p.side);
-      const int fixed = side_high(p.side) ? b.n(d) : 0;
-      for (int v = p.lo[(d + 2) % 3]; v <= p.hi[(d + 2) % 3]; ++v)
-        for (int u = p.lo[(d + 1) % 3]; u <= p.hi[(d + 1) % 3]; ++u) {
-          Index3 n{};
-          n[d] = fixed;
-          n[(d + 1) % 3] = u;
-          n[(d + 2) % 3] = v;
-          const Vec3 x = b.x(n);
-          if (tube_root) {
-            // Across the sail's plane (grid y), its half-thickness at x.
-            worst_root = std::max(worst_root, std::abs(std::abs(x[1]) / ft - suboff::Sail::section_half_thickness(x[0] / ft)));
-            ++root;
-            continue;
-          }
-          const auto& a = *std::find_if(config.appendages.begin(), config.appendages.end(),
-                                        [&](const auto& q) { return q->name() == p.label; });
-          const auto& fin = static_cast<const suboff::Fin&>(*a);
-          const Vec3 c = fin.plane_coordinates(suboff::from_grid_axes(x / ft));
-          const Real s_in = std::min(c[1], fin.shape().tip_span * (1.0 - 1e-12));
-          if (b.name.find("cap") != std::string::npos || b.name.find("core") != std::string::npos) {
-            // The tip face: within the tip section, on the tube's tip level.
-            worst_inside_tip = std::max(worst_inside_tip, std::abs(c[2]) - fin.half_thickness(c[0], s_in));
-            tip_span_low = std::min(tip_span_low, c[1]);
-            tip_span_high = std::max(tip_span_high, c[1]);
-            ++tip;
-          } else {
-            // The section: |n| = t(x, s); at the edges, where t grows like a square root (and
-            // round-off in the chord fraction gives 1e-9 ft under it), the distance to the edge.
-            const Real miss = std::abs(c[2]) < 1e-8
-                                  ? std::hypot(std::min(std::abs(c[0] - fin.leading_edge(s_in)), std::abs(c[0] - fin.trailing_edge(s_in))), c[2])
-                                  : std::abs(std::abs(c[2]) - fin.half_thickness(c[0], s_in));
-            worst_section = std::max(worst_section, miss);
-            ++section;
-          }
-        }
+  test::for_each_patch_node(g, [&](const Block& b, const Patch& p, const Vec3& x) {
+    const bool plane = p.label.find("sail_plane") != std::string::npos;
+    const bool tube_root = p.label == "sail" && b.name.rfind("sp", 0) == 0;
+    if (tube_root) {
+      // Across the sail's plane (grid y), its half-thickness at x.
+      worst_root = std::max(worst_root, std::abs(std::abs(x[1]) / ft - suboff::Sail::section_half_thickness(x[0] / ft)));
+      ++root;
+      return;
     }
+    if (!plane) return;
+    const auto& a = *std::find_if(config.appendages.begin(), config.appendages.end(),
+                                  [&](const auto& q) { return q->name() == p.label; });
+    const auto& fin = static_cast<const suboff::Fin&>(*a);
+    const Vec3 c = fin.plane_coordinates(suboff::from_grid_axes(x / ft));
+    const Real s_in = std::min(c[1], fin.shape().tip_span * (1.0 - 1e-12));
+    if (b.name.find("cap") != std::string::npos || b.name.find("core") != std::string::npos) {
+      // The tip face: within the tip section, on the tube's tip level.
+      worst_inside_tip = std::max(worst_inside_tip, std::abs(c[2]) - fin.half_thickness(c[0], s_in));
+      tip_span_low = std::min(tip_span_low, c[1]);
+      tip_span_high = std::max(tip_span_high, c[1]);
+      ++tip;
+      return;
+    }
+    // The section: |n| = t(x, s); at the edges, where t grows like a square root (and
+    // round-off in the chord fraction gives 1e-9 ft under it), the distance to the edge.
+    const Real miss =
+        std::abs(c[2]) < 1e-8
+            ? std::hypot(std::min(std::abs(c[0] - fin.leading_edge(s_in)), std::abs(c[0] - fin.trailing_edge(s_in))), c[2])
+            : std::abs(std::abs(c[2]) - fin.half_thickness(c[0], s_in));
+    worst_section = std::max(worst_section, miss);
+    ++section;
+  });
   EXPECT_GT(section, 2 * 8 * 8);
   EXPECT_GT(tip, 2 * 8 * 8);
   EXPECT_GT(root, 2 * 8 * 8);

@@ -37,23 +37,6 @@ bool in_a_fin_box(const std::string& block) {
   return false;
 }
 
-// Every node of a patch, with its block and patch.
-template <class Visit>
-void for_each_patch_node(const Grid& g, Visit&& visit) {
-  for (const Block& b : g.blocks)
-    for (const Patch& p : b.patches) {
-      const int d = side_dir(p.side);
-      for (int v = p.lo[(d + 2) % 3]; v <= p.hi[(d + 2) % 3]; ++v)
-        for (int u = p.lo[(d + 1) % 3]; u <= p.hi[(d + 1) % 3]; ++u) {
-          Index3 n{};
-          n[d] = side_high(p.side) ? b.n(d) : 0;
-          n[(d + 1) % 3] = u;
-          n[(d + 2) % 3] = v;
-          visit(b, p, b.x(n));
-        }
-    }
-}
-
 // How far the wall nodes lie from the surfaces they belong to: the turned fins (turned back,
 // |n| = t(x, s) in the fin's plane, or on an edge), the turned tip planes (the radius R_max
 // about the hull's axis before the turn) and the hull.
@@ -66,7 +49,7 @@ WallMiss wall_miss(const Grid& g, const AppendedSuboffSpec& spec) {
   const Real ft = spec.length / suboff::kOverallLength;
   const suboff::Configuration fins = suboff::make_configuration(spec.configuration, spec.deflections);
   WallMiss m;
-  for_each_patch_node(g, [&](const Block& b, const Patch& p, const Vec3& x) {
+  test::for_each_patch_node(g, [&](const Block& b, const Patch& p, const Vec3& x) {
     if (p.label == "farfield") return;
     if (p.label == "body") {
       m.hull = std::max(m.hull, std::abs(std::hypot(x[1], x[2]) - suboff::hull_radius(x[0] / ft) * ft));
@@ -200,7 +183,7 @@ TEST(AppendedSuboff, DeflectedSailPlanesDeformOnlyTheirTube) {
     const Real ft = s.length / suboff::kOverallLength;
     Real worst_section = 0.0, worst_root = 0.0;
     int section = 0;
-    for_each_patch_node(g, [&](const Block& b, const Patch& p, const Vec3& x) {
+    test::for_each_patch_node(g, [&](const Block& b, const Patch& p, const Vec3& x) {
       if (p.label == "sail" && b.name.rfind("sp", 0) == 0) {
         worst_root = std::max(worst_root, std::abs(std::abs(x[1]) / ft - suboff::Sail::section_half_thickness(x[0] / ft)));
         return;
