@@ -537,6 +537,7 @@ Grid make_full(const AppendedSuboffSpec& spec, const suboff::Configuration& conf
   tube.feet = ft;
   tube.station_first = ia, tube.station_last = ib;
   tube.level_low = cuts.level_low, tube.level_mid = km, tube.level_high = cuts.level_high;
+  const SailPlaneRings rings = sail_plane_rings(spec.cells_section);
   auto sail_layer = [&](bool port, int t) {
     TubeLevel l;
     l.node = [&sail_levels, t, port, ring_position](int station, int k) {
@@ -561,7 +562,6 @@ Grid make_full(const AppendedSuboffSpec& spec, const suboff::Configuration& conf
       // the tips' ring (ogrid's knot); between, a blend over the first half of the way,
       // where the rings stand far apart: clustered round the knot, rings 1e-6 L apart
       // interpolated alike (a blend there crossed them).
-      const SailPlaneRings rings = sail_plane_rings(spec.cells_section);
       const Real follow =
           1.0 - smoothstep(2.0 * static_cast<Real>(t - rings.cells_layer) / (rings.knot_ring - rings.cells_layer));
       l.azimuth = patch_azimuth(
@@ -596,7 +596,7 @@ Grid make_full(const AppendedSuboffSpec& spec, const suboff::Configuration& conf
   const int last_level = static_cast<int>(tube.levels.size()) - 1;
   // The tips on the sail's O ring clustered at their span; a box too narrow for it keeps
   // that ring short of the span (ogrid::Spec's knot), which is refused here.
-  const int t_tip = sail_plane_rings(spec.cells_section).knot_ring;
+  const int t_tip = rings.knot_ring;
   tube.tips = {t_tip, last_level - t_tip};
   for (const int l : tube.tips) {
     const suboff::Fin& plane = *planes[l == t_tip ? 0 : 1];

@@ -389,16 +389,6 @@ std::function<Real(Real x, Real r)> patch_azimuth(std::vector<std::vector<Vec3>>
   };
 }
 
-int tube_tip_level(const SailPlaneTube& tube, const suboff::Fin& plane, int station_mid, int from, int to, int step) {
-  int last_inside = from;
-  for (int l = from; l != to + step; l += step) {
-    const Vec3 p = tube.levels[static_cast<std::size_t>(l)].node(station_mid, tube.level_mid);
-    if (plane_coordinates(plane, tube.feet, p)[1] >= plane.shape().tip_span) break;
-    last_inside = l;
-  }
-  return last_inside;
-}
-
 std::vector<Block> make_sail_plane_tube(const SailPlaneTube& tube, const std::string& root) {
   const int last = static_cast<int>(tube.levels.size()) - 1;
   if (tube.planes[0] == nullptr || tube.planes[1] == nullptr || last < 4)

@@ -64,9 +64,5 @@ std::function<Real(Real x, Real r)> patch_azimuth(std::vector<std::vector<Vec3>>
 // (the sail) at both ends.
 std::vector<Block> make_sail_plane_tube(const SailPlaneTube& tube, const std::string& root);
 
-// The tube level at which a plane rooted at level 0 reaches its tip span: the first
-// level whose mid-chord node (station_mid, level_mid) lies at or beyond it. For
-// diagnostics and the tube's construction; its span there is what the grid meshes.
-int tube_tip_level(const SailPlaneTube& tube, const suboff::Fin& plane, int station_mid, int from, int to, int step);
 
 }  // namespace narwhal
