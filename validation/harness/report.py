@@ -22,6 +22,7 @@ from .extract import read_csv  # noqa: E402
 from .motion import axis_from_vertical_deg, fall_components, gravity_direction  # noqa: E402
 from .solution import read_solution  # noqa: E402
 from .errors import HarnessError  # noqa: E402
+from .settings import split_settings  # noqa: E402
 from .ladder import load_ladder  # noqa: E402
 
 ONE_SIDED = {"max": "≤", "min": "≥"}
@@ -470,6 +471,7 @@ def _rung_page(rung_dir, res):
              f"<th>residual drop</th><th>log</th></tr>{rows}</table>")
     if _plot_residuals(rung_dir, res, rung_dir / "residuals.png"):
         body += "<img src='residuals.png' alt='residual history'>"
+    body += _settings_section(res.get("settings") or {})
     body += "<h2>Checks</h2>"
     for i, c in enumerate(res.get("checks", [])):
         verdict = "PASS" if c.get("pass") else "FAIL"
@@ -504,6 +506,27 @@ def _rung_page(rung_dir, res):
     body += "<h2>Provenance</h2><table>" + "".join(
         f"<tr><th>{html.escape(k)}</th><td>{_fmt(v)}</td></tr>" for k, v in prov.items()) + "</table>"
     (rung_dir / "index.html").write_text(_page(f"{res['rung']}: {res.get('title', '')}", body, depth=1))
+
+
+def _settings_section(by_run):
+    """The solver settings of the rung's Narwhal runs: one table of those they share, and
+    each one that differs with its value per run."""
+    if not by_run:
+        return ""
+    shared, differing = split_settings(by_run)
+    n = len(by_run)
+    if differing:
+        lead = (f"<p>{len(differing)} setting(s) differ between the {n} runs: "
+                f"{html.escape(', '.join(differing))}.</p>")
+    else:
+        lead = f"<p>One set of settings for all {n} run(s) (from each run's run.json).</p>"
+    body = "<h2>Solver settings</h2>" + lead + "<table><tr><th>setting</th><th>value</th></tr>" + "".join(
+        f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>" for k, v in shared.items())
+    body += "".join(
+        f"<tr><td>{html.escape(k)}</td><td class=FAIL>" + "; ".join(
+            f"{html.escape(rid)}: {_fmt(v) if v is not None else 'not set'}" for rid, v in values.items())
+        + "</td></tr>" for k, values in differing.items())
+    return body + "</table>"
 
 
 def _reported_value(q):

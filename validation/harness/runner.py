@@ -16,6 +16,7 @@ from .errors import HarnessError
 from .extract import Context, extract
 from .reference import ReferenceFile
 from .references import resolve_reference
+from .settings import rung_settings
 
 EXIT_MEANING = {0: "converged", 1: "not converged (max_iterations or stalled: run.json tells)", 2: "input error", 3: "diverged"}
 
@@ -163,8 +164,9 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1, resume=False):
         run_dirs[r.id] = rd
         inputs[r.id] = effective_input(r)
 
+    ctx = Context(rung, run_dirs, inputs, root / "reference_data")
+    result["settings"] = rung_settings(ctx)
     if result["status"] == "passed":
-        ctx = Context(rung, run_dirs, inputs, root / "reference_data")
         for c in rung.checks:
             if tier not in c.tiers:
                 continue

@@ -4,7 +4,7 @@ import threading
 import time
 import unittest
 
-import support  # noqa: F401
+from support import ROOT
 
 from harness.scheduling import CoreSlots, start_order
 
@@ -56,6 +56,14 @@ class CoreSlotsTest(unittest.TestCase):
 
     def test_the_widest_rungs_start_first(self):
         self.assertEqual(start_order(["a", "bb", "c", "ddd"], len), ["ddd", "bb", "a", "c"])
+
+
+class EveryTestModuleRuns(unittest.TestCase):
+    def test_ctest_names_every_test_module(self):
+        """A test module that validation/CMakeLists.txt does not name never runs in CI."""
+        listed = (ROOT / "validation" / "CMakeLists.txt").read_text().split()
+        modules = sorted(p.stem for p in (ROOT / "validation" / "tests").glob("test_*.py"))
+        self.assertEqual([m for m in modules if m not in listed], [])
 
 
 if __name__ == "__main__":
