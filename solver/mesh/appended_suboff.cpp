@@ -473,34 +473,49 @@ int local_i(const Block& b, int j, int k, const Vec3& p) {
   fail("appended SUBOFF grid: internal: block '{}' has no node at the sail planes' tube", b.name);
 }
 
-Grid make_full(const AppendedSuboffSpec& spec, const suboff::Configuration& config) {
-  const Layout lay(spec);
-  const int na = spec.cells_around, w = spec.box_half_width, tip = spec.cells_span;
-  std::vector<Block> sectors;
-  for (int sector = 0; sector < 4; ++sector) sectors.push_back(make_sector_block(lay, sector));
-  const suboff::Appendage* sail = nullptr;
-  std::array<const suboff::Fin*, 2> planes{};  // starboard, port
-  std::vector<Block> boxes;
-  std::vector<Level> sail_levels;
+// The hull's four sectors and the appendages' boxes; with the sail planes, the sail's box
+// carries the planes' rings (sail_plane_rings) and keeps its levels for the tube, and the
+// planes themselves go to the tube, not to boxes.
+struct HullAndBoxes {
+  std::vector<Block> sectors, boxes;
+  std::vector<Level> sail_levels;              // the sail box's levels (sail planes only)
+  std::array<const suboff::Fin*, 2> planes{};  // starboard, port (sail planes only)
+};
+
+HullAndBoxes make_hull_and_boxes(const Layout& lay, const suboff::Configuration& config, bool sail_planes) {
+  HullAndBoxes h;
+  for (int sector = 0; sector < 4; ++sector) h.sectors.push_back(make_sector_block(lay, sector));
+  bool has_sail = false;
   for (const auto& a : config.appendages) {
     if (is_sail_plane(*a)) {
-      planes[a->name() == "starboard_sail_plane" ? 0 : 1] = static_cast<const suboff::Fin*>(a.get());
+      h.planes[a->name() == "starboard_sail_plane" ? 0 : 1] = static_cast<const suboff::Fin*>(a.get());
       continue;
     }
-    if (a->name() == "sail") sail = a.get();
-    const bool is_sail = a->name() == "sail";
-    for (Block& b : make_box(sectors, lay, *a, is_sail ? &sail_levels : nullptr, is_sail)) boxes.push_back(std::move(b));
+    const bool tube_host = sail_planes && a->name() == "sail";
+    has_sail = has_sail || a->name() == "sail";
+    for (Block& b : make_box(h.sectors, lay, *a, tube_host ? &h.sail_levels : nullptr, tube_host))
+      h.boxes.push_back(std::move(b));
   }
-  if (sail == nullptr || planes[0] == nullptr || planes[1] == nullptr)
+  if (sail_planes && (!has_sail || h.planes[0] == nullptr || h.planes[1] == nullptr))
     fail("appended SUBOFF grid: the sail planes need the sail");
+  return h;
+}
 
-  // The tube's cross-section: the stations half a root chord ahead of and behind the
-  // planes, the levels about their height, as many above as below.
+// Where the tube lies: its cross-section's stations and levels (TubeCuts) and the station
+// and level at the planes' middle.
+struct TubePlace {
+  TubeCuts cuts;
+  int station_mid = 0;
+};
+
+// The tube's cross-section: the stations half a root chord ahead of and behind the
+// planes, the levels about their height, as many above as below.
+TubePlace place_tube(const Layout& lay, const suboff::Fin& starboard) {
+  const int tip = lay.spec.cells_span;
   const auto [first, last] = box_stations(lay, true);
-  const suboff::Fin& sb = *planes[0];
-  const Real root_span = suboff::Sail::kMaxHalfThickness, root_chord = sb.chord(root_span);
-  const Real x_front = (sb.leading_edge(root_span) - 0.5 * root_chord) * lay.ft;
-  const Real x_back = (sb.trailing_edge(root_span) + 0.5 * root_chord) * lay.ft;
+  const Real root_span = suboff::Sail::kMaxHalfThickness, root_chord = starboard.chord(root_span);
+  const Real x_front = (starboard.leading_edge(root_span) - 0.5 * root_chord) * lay.ft;
+  const Real x_back = (starboard.trailing_edge(root_span) + 0.5 * root_chord) * lay.ft;
   auto station_x = [&](int i) { return lay.level(lay.st.s[static_cast<std::size_t>(i)], 0)[0]; };
   int ia = first + 1, ib = last - 1;
   while (ia + 1 < last && station_x(ia + 1) <= x_front) ++ia;
@@ -521,111 +536,130 @@ Grid make_full(const AppendedSuboffSpec& spec, const suboff::Configuration& conf
     h += 2;
   if (km - h < 1 || km + h > tip - 1)
     fail("appended SUBOFF grid: no room between the hull and the sail's tip for the sail planes' tube");
-  const TubeCuts cuts{ia, ib, km - h, km, km + h};
+  return {TubeCuts{ia, ib, km - h, km, km + h}, i_mid};
+}
 
-  // The tube's levels: the sail box's starboard O layers outwards, the sectors' azimuthal
-  // planes round under the hull, the port O layers inwards.
+// The position along the sail box's O rings of a station on the sail's port or starboard
+// side (the rings run round the section from the first level's split points).
+int ring_position(const std::vector<Level>& sail_levels, int first_station, bool port, int station) {
   const auto& split = sail_levels.front().split;
-  const int n = static_cast<int>(sail_levels.front().ring.size()) - 1;
-  auto ring_position = [&, first = first](bool port, int station) {
-    return port ? split[1] + (station - first) : split[4] - (station - first);
-  };
+  return port ? split[1] + (station - first_station) : split[4] - (station - first_station);
+}
+
+// The tube's level on the sail box's O layer t, port or starboard: its nodes the layer's,
+// its azimuth exact on the sail's side (t = 0), beyond that interpolated from the layer's
+// nodes (patch_azimuth), following the side through the wall layer and lying across the
+// plane at the tips' ring.
+TubeLevel sail_layer(const Layout& lay, const std::vector<Level>& sail_levels, const TubeCuts& cuts, bool port,
+                     int t) {
+  const int first = box_stations(lay, true)[0];
+  const SailPlaneRings rings = sail_plane_rings(lay.spec.cells_section);
   const Real plane_angle = 1.5 * kPi;  // the sail's plane, 270 degrees
   const Real ft = lay.ft;
-  SailPlaneTube tube;
-  tube.planes = planes;
-  tube.feet = ft;
-  tube.station_first = ia, tube.station_last = ib;
-  tube.level_low = cuts.level_low, tube.level_mid = km, tube.level_high = cuts.level_high;
-  const SailPlaneRings rings = sail_plane_rings(spec.cells_section);
-  auto sail_layer = [&](bool port, int t) {
-    TubeLevel l;
-    l.node = [&sail_levels, t, port, ring_position](int station, int k) {
-      return sail_levels[static_cast<std::size_t>(k)].ring[static_cast<std::size_t>(t)]
-                        [static_cast<std::size_t>(ring_position(port, station))];
-    };
-    // The sail's side: its half-thickness across the plane, exactly.
-    const Real sign = port ? 1.0 : -1.0;
-    auto side = [sign, plane_angle, ft](Real x, Real r) {
+  TubeLevel l;
+  l.node = [&sail_levels, t, port, first](int station, int k) {
+    return sail_levels[static_cast<std::size_t>(k)].ring[static_cast<std::size_t>(t)][static_cast<std::size_t>(
+        ring_position(sail_levels, first, port, station))];
+  };
+  // The sail's side: its half-thickness across the plane, exactly.
+  const Real sign = port ? 1.0 : -1.0;
+  if (t == 0) {
+    l.azimuth = [sign, plane_angle, ft](Real x, Real r) {
       return plane_angle + sign * std::asin(suboff::Sail::section_half_thickness(x / ft) * ft / r);
     };
-    if (t == 0) {
-      l.azimuth = side;
-    } else {
-      std::vector<std::vector<Vec3>> patch;
-      for (int i = ia; i <= ib; ++i) {
-        std::vector<Vec3> column;
-        for (int k = cuts.level_low; k <= cuts.level_high; ++k) column.push_back(l.node(i, k));
-        patch.push_back(std::move(column));
-      }
-      // The O's rings follow the side through its wall layer and lie across the plane at
-      // the tips' ring (ogrid's knot); between, a blend over the first half of the way,
-      // where the rings stand far apart: clustered round the knot, rings 1e-6 L apart
-      // interpolated alike (a blend there crossed them).
-      const Real follow =
-          1.0 - smoothstep(2.0 * static_cast<Real>(t - rings.cells_layer) / (rings.knot_ring - rings.cells_layer));
-      l.azimuth = patch_azimuth(
-          std::move(patch), [ft](Real x) { return suboff::Sail::section_half_thickness(x / ft) * ft; }, follow,
-          plane_angle, sign);
-    }
     return l;
-  };
-  auto sector_layer = [&](int q, int j) {
-    TubeLevel l;
-    const Block* b = &sectors[static_cast<std::size_t>(q)];
-    l.node = [b, j](int station, int k) { return b->x(station, j, k); };
-    const Vec3 p = b->x(ia, j, 0);
-    const Real phi = std::atan2(p[2], p[1]);
-    l.azimuth = [phi](Real, Real) { return phi; };
-    return l;
-  };
-  std::vector<int> breaks;
-  for (int t = 0; t <= n; ++t) tube.levels.push_back(sail_layer(false, t));
+  }
+  std::vector<std::vector<Vec3>> patch;
+  for (int i = cuts.station_first; i <= cuts.station_last; ++i) {
+    std::vector<Vec3> column;
+    for (int k = cuts.level_low; k <= cuts.level_high; ++k) column.push_back(l.node(i, k));
+    patch.push_back(std::move(column));
+  }
+  // Between the wall layer and the knot a blend over the first half of the way, where the
+  // rings stand far apart: clustered round the knot, rings 1e-6 L apart interpolated alike
+  // (a blend there crossed them).
+  const Real follow =
+      1.0 - smoothstep(2.0 * static_cast<Real>(t - rings.cells_layer) / (rings.knot_ring - rings.cells_layer));
+  l.azimuth = patch_azimuth(
+      std::move(patch), [ft](Real x) { return suboff::Sail::section_half_thickness(x / ft) * ft; }, follow,
+      plane_angle, sign);
+  return l;
+}
+
+// The tube's level on a sector's meridional half-plane j.
+TubeLevel sector_layer(const Block& sector, int station, int j) {
+  TubeLevel l;
+  l.node = [b = &sector, j](int i, int k) { return b->x(i, j, k); };
+  const Vec3 p = sector.x(station, j, 0);
+  const Real phi = std::atan2(p[2], p[1]);
+  l.azimuth = [phi](Real, Real) { return phi; };
+  return l;
+}
+
+// The tube's levels: the sail box's starboard O layers outwards, the sectors' azimuthal
+// planes round under the hull, the port O layers inwards; its blocks break where the
+// host's blocks do, and its tips lie on the sail's O ring clustered at their span.
+SailPlaneTube describe_tube(const Layout& lay, const HullAndBoxes& h, const TubePlace& place) {
+  const AppendedSuboffSpec& spec = lay.spec;
+  const int na = spec.cells_around, w = spec.box_half_width;
+  const TubeCuts& cuts = place.cuts;
+  const int n = static_cast<int>(h.sail_levels.front().ring.size()) - 1;
+  SailPlaneTube tube;
+  tube.planes = h.planes;
+  tube.feet = lay.ft;
+  tube.station_first = cuts.station_first, tube.station_last = cuts.station_last;
+  tube.level_low = cuts.level_low, tube.level_mid = cuts.level_mid, tube.level_high = cuts.level_high;
+  for (int t = 0; t <= n; ++t) tube.levels.push_back(sail_layer(lay, h.sail_levels, cuts, false, t));
+  tube.breaks.push_back(n);
   auto sector_run = [&](int q, int j0, int j1) {
     for (int j = j0 + 1; j <= j1; ++j) {
-      tube.levels.push_back(sector_layer(q, j));
-      if (j == w || j == na - w || j == j1) breaks.push_back(static_cast<int>(tube.levels.size()) - 1);
+      tube.levels.push_back(sector_layer(h.sectors[static_cast<std::size_t>(q)], cuts.station_first, j));
+      if (j == w || j == na - w || j == j1) tube.breaks.push_back(static_cast<int>(tube.levels.size()) - 1);
     }
   };
-  breaks.push_back(n);
   sector_run(2, w, na);
   sector_run(1, 0, na);
   sector_run(0, 0, na);
   sector_run(3, 0, na - w);
-  for (int t = n - 1; t >= 0; --t) tube.levels.push_back(sail_layer(true, t));
+  for (int t = n - 1; t >= 0; --t) tube.levels.push_back(sail_layer(lay, h.sail_levels, cuts, true, t));
   const int last_level = static_cast<int>(tube.levels.size()) - 1;
-  // The tips on the sail's O ring clustered at their span; a box too narrow for it keeps
-  // that ring short of the span (ogrid::Spec's knot), which is refused here.
-  const int t_tip = rings.knot_ring;
+  // A box too narrow for the knot keeps that ring short of the span (ogrid::Spec's knot),
+  // which is refused here.
+  const int t_tip = sail_plane_rings(spec.cells_section).knot_ring;
   tube.tips = {t_tip, last_level - t_tip};
   for (const int l : tube.tips) {
-    const suboff::Fin& plane = *planes[l == t_tip ? 0 : 1];
-    const Vec3 p = tube.levels[static_cast<std::size_t>(l)].node(i_mid, km);
-    const Real span = plane.plane_coordinates(suboff::from_grid_axes(p / ft))[1];
+    const suboff::Fin& plane = *h.planes[l == t_tip ? 0 : 1];
+    const Vec3 p = tube.levels[static_cast<std::size_t>(l)].node(place.station_mid, cuts.level_mid);
+    const Real span = plane.plane_coordinates(suboff::from_grid_axes(p / lay.ft))[1];
     if (std::abs(span - plane.shape().tip_span) > 1e-6)
       fail("appended SUBOFF grid: the sail's box reaches {:.3f} ft from the sail's plane at the sail planes' height, "
            "short of their {:.3f} ft span (widen grid.box_half_width)",
            span, plane.shape().tip_span);
   }
-  tube.breaks = breaks;
   tube.section_grid.cells_normal = spec.cells_section;
   tube.section_grid.first_spacing = spec.fin_spacing;
   tube.section_grid.layer = spec.section_layer;
   tube.section_grid.leading_edge_spacing = spec.section_edge_spacing;
   tube.section_grid.trailing_edge_spacing = spec.section_edge_spacing;
   tube.cap_growth = spec.cap_growth;
-  std::vector<Block> tube_blocks = make_sail_plane_tube(tube, "sail");
+  return tube;
+}
 
-  // The hull's pieces round the boxes and the tube, then the boxes: the sail's cut where
-  // the tube meets it (its O blocks at the tips' layer, its sides and what lies on them at
-  // the tube's stations, its inner blocks at the tube's levels), the stern appendages'
-  // inner blocks at the tube's levels (they meet the sectors' pieces there).
-  for (const bool tail : {false, true}) sectors.push_back(make_pole_block(lay, tail));
-  Grid g = cut_around_boxes(sectors, lay, config, cuts);
+// The boxes cut where the tube meets them: the sail's O blocks at the tips' layer, its
+// sides and what lies on them at the tube's stations, its inner blocks at the tube's
+// levels, less the pieces the tube replaces; the stern appendages' inner blocks at the
+// tube's levels (they meet the sectors' pieces there).
+void cut_boxes_round_tube(const std::vector<Block>& boxes, const Layout& lay, const std::vector<Level>& sail_levels,
+                          const TubeCuts& cuts, Grid& g) {
+  const int first = box_stations(lay, true)[0], tip = lay.spec.cells_span;
+  const int t_tip = sail_plane_rings(lay.spec.cells_section).knot_ring;
+  const int ia = cuts.station_first, ib = cuts.station_last;
+  auto ends_with = [](const std::string& s, const std::string& end) {
+    return s.size() > end.size() && s.compare(s.size() - end.size(), end.size(), end) == 0;
+  };
   for (const Block& b : boxes) {
     const bool sail_box = b.name.rfind("sail_", 0) == 0;
-    const bool inner = b.name.size() > 6 && b.name.compare(b.name.size() - 6, 6, "_inner") == 0;
-    const bool outer = b.name.size() > 6 && b.name.compare(b.name.size() - 6, 6, "_outer") == 0;
+    const bool inner = ends_with(b.name, "_inner"), outer = ends_with(b.name, "_outer");
     std::vector<int> ic{0, b.ni}, jc{0, b.nj}, kc{0, b.nk};
     if (inner)
       for (const int k : {cuts.level_low, cuts.level_mid, cuts.level_high}) kc.push_back(k);
@@ -639,10 +673,9 @@ Grid make_full(const AppendedSuboffSpec& spec, const suboff::Configuration& conf
     const bool port = b.name.find("_up") != std::string::npos;
     int i0 = -1, i1 = -1;
     if (side) {
-      const int k_start = inner ? 0 : tip;
-      const auto& ring = sail_levels[static_cast<std::size_t>(k_start)].ring.front();
-      i0 = local_i(b, 0, 0, ring[static_cast<std::size_t>(ring_position(port, ia))]);
-      i1 = local_i(b, 0, 0, ring[static_cast<std::size_t>(ring_position(port, ib))]);
+      const auto& ring = sail_levels[static_cast<std::size_t>(inner ? 0 : tip)].ring.front();
+      i0 = local_i(b, 0, 0, ring[static_cast<std::size_t>(ring_position(sail_levels, first, port, ia))]);
+      i1 = local_i(b, 0, 0, ring[static_cast<std::size_t>(ring_position(sail_levels, first, port, ib))]);
       if (i0 > i1) std::swap(i0, i1);
       ic.push_back(i0);
       ic.push_back(i1);
@@ -657,8 +690,6 @@ Grid make_full(const AppendedSuboffSpec& spec, const suboff::Configuration& conf
               },
               g);
   }
-  for (Block& b : tube_blocks) g.blocks.push_back(std::move(b));
-  return g;
 }
 
 }  // namespace
@@ -699,19 +730,25 @@ Grid make_appended_suboff(const AppendedSuboffSpec& spec) {
   if (std::find(meshed.begin(), meshed.end(), spec.configuration) == meshed.end())
     fail("appended SUBOFF grid: configuration '{}' is not meshed (expected one of {})", spec.configuration,
          fmt::join(meshed, ", "));
-  const suboff::Configuration config =
-      suboff::make_configuration(spec.configuration, spec.deflections);
-  if (spec.configuration == "full") return make_full(spec, config);
+  const suboff::Configuration config = suboff::make_configuration(spec.configuration, spec.deflections);
 
   const Layout layout(spec);
-  std::vector<Block> blocks;
-  for (int sector = 0; sector < 4; ++sector) blocks.push_back(make_sector_block(layout, sector));
-  std::vector<Block> boxes;
-  for (const auto& a : config.appendages)
-    for (Block& b : make_box(blocks, layout, *a)) boxes.push_back(std::move(b));
-  for (const bool tail : {false, true}) blocks.push_back(make_pole_block(layout, tail));
-  Grid g = cut_around_boxes(blocks, layout, config);
-  for (Block& b : boxes) g.blocks.push_back(std::move(b));
+  const bool sail_planes = spec.configuration == "full";
+  HullAndBoxes h = make_hull_and_boxes(layout, config, sail_planes);
+  std::vector<Block> tube_blocks;
+  TubeCuts cuts;
+  if (sail_planes) {
+    const TubePlace place = place_tube(layout, *h.planes[0]);
+    cuts = place.cuts;
+    tube_blocks = make_sail_plane_tube(describe_tube(layout, h, place), "sail");
+  }
+  for (const bool tail : {false, true}) h.sectors.push_back(make_pole_block(layout, tail));
+  Grid g = cut_around_boxes(h.sectors, layout, config, cuts);
+  if (sail_planes)
+    cut_boxes_round_tube(h.boxes, layout, h.sail_levels, cuts, g);
+  else
+    for (Block& b : h.boxes) g.blocks.push_back(std::move(b));
+  for (Block& b : tube_blocks) g.blocks.push_back(std::move(b));
   return g;  // the free faces are connected by finalize_grid (mesh/setup.hpp)
 }
 

@@ -328,7 +328,7 @@ std::function<Real(Real x, Real r)> patch_azimuth(std::vector<std::vector<Vec3>>
   if (ni < 1 || nk < 1) fail("sail planes' tube: a layer's patch needs at least one cell");
   struct Node {
     Point c;
-    Real phi;
+    Real beyond;  // the node's distance from the plane less `follow` times the side's
   };
   auto grid = std::make_shared<std::vector<std::vector<Node>>>();
   for (const auto& column : nodes) {
@@ -377,7 +377,7 @@ std::function<Real(Real x, Real r)> patch_azimuth(std::vector<std::vector<Vec3>>
       const int di = a < -hair && i > 0 ? -1 : a > 1.0 + hair && i + 1 < ni ? 1 : 0;
       const int dk = b < -hair && k > 0 ? -1 : b > 1.0 + hair && k + 1 < nk ? 1 : 0;
       if (di == 0 && dk == 0) {
-        const Real beyond = (1 - a) * (1 - b) * p00.phi + a * (1 - b) * p10.phi + (1 - a) * b * p01.phi + a * b * p11.phi;
+        const Real beyond = (1 - a) * (1 - b) * p00.beyond + a * (1 - b) * p10.beyond + (1 - a) * b * p01.beyond + a * b * p11.beyond;
         return plane + sign * std::asin((follow * side(x) + beyond) / r);
       }
       i += di, k += dk;
