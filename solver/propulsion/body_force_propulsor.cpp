@@ -1,0 +1,134 @@
+#include "propulsion/body_force_propulsor.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "core/error.hpp"
+#include "mesh/block.hpp"
+#include "parallel/reduction.hpp"
+
+namespace narwhal {
+
+BodyForcePropulsor::BodyForcePropulsor(PropulsorSpec spec, std::shared_ptr<const OpenWaterCurve> curve)
+    : spec_(std::move(spec)), curve_(std::move(curve)) {
+  const auto& d = spec_.disk;
+  if (!curve_) fail("propulsor '{}': no open-water curve", spec_.name);
+  if (!(d.tip_radius > d.hub_radius && d.hub_radius >= 0.0))
+    fail("propulsor '{}': the tip radius ({}) must exceed the hub radius ({}), which must not be negative", spec_.name,
+         d.tip_radius, d.hub_radius);
+  if (!(d.thickness > 0.0)) fail("propulsor '{}': the disk's thickness must be positive, got {}", spec_.name, d.thickness);
+  if (!(spec_.axis.norm() > 0.0)) fail("propulsor '{}': the axis must not be zero", spec_.name);
+  if (spec_.rotation != 1 && spec_.rotation != -1) fail("propulsor '{}': rotation must be +1 or -1", spec_.name);
+  if (!(spec_.rps > 0.0)) fail("propulsor '{}': the rotation rate must be positive, got {}", spec_.name, spec_.rps);
+  if (spec_.sub_points < 1) fail("propulsor '{}': sub_points must be at least 1", spec_.name);
+  spec_.axis.normalize();
+}
+
+void BodyForcePropulsor::set_surge_speed(Real surge_speed) {
+  surge_speed_ = surge_speed;
+  const Real n = spec_.rps, D = 2.0 * spec_.disk.tip_radius;
+  loads_.advance_speed = (1.0 - spec_.wake_fraction) * surge_speed;
+  loads_.advance_ratio = loads_.advance_speed / (n * D);
+  loads_.kt = curve_->kt(loads_.advance_ratio);
+  loads_.kq = curve_->kq(loads_.advance_ratio);
+  loads_.thrust = loads_.kt * n * n * std::pow(D, 4);  // §9.1, rho = 1
+  loads_.torque = loads_.kq * n * n * std::pow(D, 5);
+  update_scales();
+}
+
+void BodyForcePropulsor::update_scales() {
+  if (!normalised_) return;
+  axial_scale_ = loads_.thrust / axial_integral_;
+  tangential_scale_ = loads_.torque / torque_integral_;
+}
+
+std::optional<BodyForcePropulsor::CellShare> BodyForcePropulsor::share(const Block& b, int i, int j, int k) const {
+  const auto& d = spec_.disk;
+  const Vec3& e = spec_.axis;
+  // Cells whose corners all lie farther than the disk reaches are left at once.
+  const Vec3 xc = b.xc(i, j, k);
+  Real reach = 0.0;
+  for (int c = 0; c < 8; ++c) reach = std::max(reach, (b.x(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2)) - xc).norm());
+  const Vec3 rel = xc - spec_.centre;
+  const Real xa = rel.dot(e), r = (rel - xa * e).norm();
+  if (std::abs(xa) > 0.5 * d.thickness + reach || r > d.tip_radius + reach || r < d.hub_radius - reach)
+    return std::nullopt;
+  // §9.4: the sub-points of the cell's trilinear map, each standing for an equal part.
+  const int n = spec_.sub_points;
+  const Vec3 w = spin();
+  CellShare s;
+  int inside = 0;
+  for (int c = 0; c < n; ++c)
+    for (int bq = 0; bq < n; ++bq)
+      for (int a = 0; a < n; ++a) {
+        const Real xi = (a + 0.5) / n, eta = (bq + 0.5) / n, zeta = (c + 0.5) / n;
+        Vec3 p = Vec3::Zero();
+        for (int m = 0; m < 8; ++m) {
+          const int di = m & 1, dj = (m >> 1) & 1, dk = m >> 2;
+          const Real weight = (di ? xi : 1 - xi) * (dj ? eta : 1 - eta) * (dk ? zeta : 1 - zeta);
+          p += weight * b.x(i + di, j + dj, k + dk);
+        }
+        const Vec3 q = p - spec_.centre;
+        const Real qa = q.dot(e);
+        const Vec3 radial = q - qa * e;
+        const Real rq = radial.norm();
+        if (std::abs(qa) > 0.5 * d.thickness || rq <= d.hub_radius || rq >= d.tip_radius) continue;
+        ++inside;
+        s.axial += hough_ordway::axial_shape(rq, d);
+        s.tangential += hough_ordway::tangential_shape(rq, d) * w.cross(radial / rq);  // e_theta = w_p x r / r
+      }
+  if (inside == 0) return std::nullopt;
+  const Real points = static_cast<Real>(n) * n * n;
+  s.fraction = inside / points;
+  s.axial /= points;
+  s.tangential /= points;
+  return s;
+}
+
+void BodyForcePropulsor::normalise(const Grid& g) {
+  // Per block: the disk's volume, sum V axial and sum V ((x_c - x_p) x tangential).w_p.
+  constexpr int kWidth = 3;
+  std::vector<Real> partials(kWidth * g.blocks.size(), 0.0);
+  const Vec3 w = spin();
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
+    const Block& b = g.blocks[ib];
+    for_each_cell(b, [&](int i, int j, int k) {
+      const auto s = share(b, i, j, k);
+      if (!s) return;
+      const Real V = b.vol(i, j, k);
+      partials[kWidth * ib + 0] += V * s->fraction;
+      partials[kWidth * ib + 1] += V * s->axial;
+      partials[kWidth * ib + 2] += V * (b.xc(i, j, k) - spec_.centre).cross(s->tangential).dot(w);
+    });
+  }
+  const std::vector<Real> total = sum_in_block_order(g, std::move(partials), kWidth);
+  if (!(total[1] > 0.0) || !(total[2] > 0.0))
+    fail("propulsor '{}': no cell of the grid lies inside its disk (centre [{}, {}, {}], radii {} to {}, thickness {})",
+         spec_.name, spec_.centre[0], spec_.centre[1], spec_.centre[2], spec_.disk.hub_radius, spec_.disk.tip_radius,
+         spec_.disk.thickness);
+  disk_volume_ = total[0];
+  axial_integral_ = total[1];
+  torque_integral_ = total[2];
+  normalised_ = true;
+  update_scales();
+}
+
+void BodyForcePropulsor::add_to_residual(const Block& b, const GhostArray<State>&, GhostArray<State>& R) const {
+  if (!normalised_) fail("propulsor '{}': internal: its source was used before normalise()", spec_.name);
+  for_each_cell(b, [&](int i, int j, int k) {
+    const auto s = share(b, i, j, k);
+    if (!s) return;
+    // §9.4: f_c = -f_a e_a + f_theta e_theta, the fluid pushed aft and swirled with the blades.
+    const Vec3 f = -axial_scale_ * s->axial * spec_.axis + tangential_scale_ * s->tangential;
+    R(i, j, k).tail<3>() -= b.vol(i, j, k) * f;
+  });
+}
+
+Vec3 BodyForcePropulsor::vehicle_force() const { return loads_.thrust * spec_.axis; }
+
+Vec3 BodyForcePropulsor::vehicle_moment(const Vec3& moment_centre) const {
+  return (spec_.centre - moment_centre).cross(vehicle_force()) - loads_.torque * spin();
+}
+
+}  // namespace narwhal

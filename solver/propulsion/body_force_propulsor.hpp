@@ -1,0 +1,99 @@
+#pragma once
+// A body-force propulsor (NUMERICS §9): thrust and torque from the propeller's open-water
+// curve at its operating point, spread over a disk of cells by the Hough-Ordway radial
+// distribution and put into the momentum equations as a volume source. The fluid is
+// pushed along -e_a and swirled with the blades; the vehicle takes T e_a and the torque's
+// reaction -Q w_p (§9.5). One entry of the flow's source list (physics/volume_source.hpp).
+//
+// Usage:
+//   auto prop = std::make_shared<BodyForcePropulsor>(spec, curve);
+//   prop->set_surge_speed(1.0);   // the operating point: J, K_T, K_Q, T, Q
+//   prop->normalise(grid);        // collective: the disk's cells on every rank
+//   fp.sources.push_back(prop);
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "core/types.hpp"
+#include "physics/volume_source.hpp"
+#include "propulsion/hough_ordway.hpp"
+#include "propulsion/open_water.hpp"
+
+namespace narwhal {
+
+struct Grid;
+
+struct PropulsorSpec {
+  std::string name = "propulsor";
+  Vec3 centre = Vec3::Zero();  // hub centre x_p (grid coordinates)
+  Vec3 axis = Vec3::UnitX();   // e_a: the thrust's direction on the vehicle (unit)
+  // +1: the blades turn right-handed about e_a (w_p = e_a), -1: left-handed (w_p = -e_a).
+  int rotation = 1;
+  hough_ordway::Disk disk;
+  Real rps = 0.0;            // n, revolutions per unit time (nondimensional, §0.2)
+  Real wake_fraction = 0.0;  // w_T of the advance speed V_A = (1 - w_T) u_B (§9.1 option a)
+  int sub_points = 4;        // per direction: a cut cell's share of the disk from sub_points^3 points
+};
+
+// The operating point and the loads it gives (nondimensional: rho = 1).
+struct PropulsorLoads {
+  Real advance_speed = 0.0;  // V_A
+  Real advance_ratio = 0.0;  // J = V_A / (n D)
+  Real kt = 0.0, kq = 0.0;
+  Real thrust = 0.0;  // T = K_T n^2 D^4
+  Real torque = 0.0;  // Q = K_Q n^2 D^5
+};
+
+class BodyForcePropulsor final : public VolumeSource {
+ public:
+  BodyForcePropulsor(PropulsorSpec spec, std::shared_ptr<const OpenWaterCurve> curve);
+
+  std::string name() const override { return spec_.name; }
+  const PropulsorSpec& spec() const { return spec_; }
+  const OpenWaterCurve& curve() const { return *curve_; }
+
+  // The operating point at the vehicle's surge speed u_B (its speed through the water
+  // along e_a): V_A = (1 - w_T) u_B, J = V_A / (n D), T and Q from the curve (§9.1).
+  void set_surge_speed(Real surge_speed);
+  const PropulsorLoads& loads() const { return loads_; }
+
+  // The discrete renormalisation (§9.4): the constants that make the disk's cells of g
+  // carry T and Q exactly (sum_c V_c f_a,c = T, sum_c V_c ((x_c - x_p) x f_c).w_p = Q).
+  // Collective over the ranks that share g (a sum in block order: the same on any rank
+  // count); made again whenever the grid or the operating point changes. Multigrid's
+  // coarse levels take the fine level's constants: a source that does not depend on the
+  // state cancels from FAS's coarse equations, whatever they evaluate.
+  void normalise(const Grid& g);
+  // The disk's volume on g's cells as normalise found it (the cut cells' shares counted).
+  Real disk_volume() const { return disk_volume_; }
+
+  // R_c -= V_c f_c over the block's cells inside the disk.
+  void add_to_residual(const Block& b, const GhostArray<State>& Q, GhostArray<State>& R) const override;
+
+  // The loads on the vehicle about x_O (§9.5): F = T e_a, M = (x_p - x_O) x F - Q w_p.
+  Vec3 vehicle_force() const;
+  Vec3 vehicle_moment(const Vec3& moment_centre) const;
+
+ private:
+  // A cell's part of the disk: the means over its sub-points of the axial shape and of
+  // the tangential shape times e_theta (zero at points outside the disk).
+  struct CellShare {
+    Real fraction = 0.0;  // of its sub-points inside the disk
+    Real axial = 0.0;
+    Vec3 tangential = Vec3::Zero();
+  };
+  std::optional<CellShare> share(const Block& b, int i, int j, int k) const;
+  Vec3 spin() const { return static_cast<Real>(spec_.rotation) * spec_.axis; }
+  void update_scales();  // the force per volume per unit shape, from T, Q and the integrals
+
+  PropulsorSpec spec_;
+  std::shared_ptr<const OpenWaterCurve> curve_;
+  PropulsorLoads loads_;
+  Real surge_speed_ = 0.0;
+  Real axial_scale_ = 0.0, tangential_scale_ = 0.0;  // force per volume per unit shape
+  Real axial_integral_ = 0.0, torque_integral_ = 0.0;  // sum_c V_c axial, sum_c V_c q_c (normalise)
+  Real disk_volume_ = 0.0;
+  bool normalised_ = false;
+};
+
+}  // namespace narwhal
