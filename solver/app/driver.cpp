@@ -29,6 +29,7 @@
 #include "physics/flow_rate.hpp"
 #include "physics/invariant_direction.hpp"
 #include "physics/wall_forces.hpp"
+#include "propulsion/body_force_propulsor.hpp"
 #include "turbulence/model.hpp"
 #include "version.hpp"
 
@@ -68,7 +69,7 @@ const char* viscous_name(ViscousForm v) {
 // run.json: what the harness reads of a run. Non-finite numbers become null (valid JSON).
 void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g, const RunSummary& s,
                     const IterationNorms& last, const std::map<std::string, ForceCoefficients>& forces,
-                    const Vec3& body_force, int ranks) {
+                    const Vec3& body_force, int ranks, const BodyForcePropulsor* propulsor) {
   nlohmann::ordered_json j;
   j["case"] = c.file;
   j["title"] = c.title;
@@ -119,6 +120,25 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
                    {"force_tolerance", c.solver.force_tolerance},
                    {"force_window", c.solver.force_window}};
   j["body_force"] = {body_force[0], body_force[1], body_force[2]};
+  if (propulsor) {
+    // Nondimensional (rho = 1, §0.2); the loads on the vehicle in grid axes (§9.5).
+    const PropulsorLoads& l = propulsor->loads();
+    const Vec3 F = propulsor->vehicle_force(), M = propulsor->vehicle_moment(c.output.moment_centre);
+    j["propulsor"] = {{"name", propulsor->name()},
+                      {"curve", propulsor->curve().describe()},
+                      {"rps", propulsor->spec().rps},
+                      {"advance_speed", l.advance_speed},
+                      {"advance_ratio", l.advance_ratio},
+                      {"kt", l.kt},
+                      {"kq", l.kq},
+                      {"thrust", l.thrust},
+                      {"torque", l.torque},
+                      {"swirl", propulsor->spec().swirl},
+                      {"rotation", propulsor->spec().rotation > 0 ? "right" : "left"},
+                      {"disk_volume", propulsor->disk_volume()},
+                      {"vehicle_force", {F[0], F[1], F[2]}},
+                      {"vehicle_moment", {M[0], M[1], M[2]}}};
+  }
   nlohmann::ordered_json f = nlohmann::ordered_json::object();
   auto coefficients = [](const Vec3& force, const Vec3& moment) {
     return nlohmann::ordered_json{{"cfx", force[0]},  {"cfy", force[1]},  {"cfz", force[2]},
@@ -262,7 +282,19 @@ class SteadyRun {
       flow_rate_ = std::make_unique<FlowRateControl>(g_, c_.body_force, c_.bulk_velocity);
       fp_.sources = {position_source("flow-rate control", flow_rate_->source())};  // it adjusts the body force
     }
+    add_propulsor();
     field_.allocate(g_, fp_, c_.initial);
+  }
+
+  // §9: the propulsor's operating point at the towing speed (the free stream's part
+  // along its axis: the vehicle's surge speed through the water), its disk normalised on
+  // the run's cells (collective over comm_), one more entry of the source list.
+  void add_propulsor() {
+    if (!c_.propulsor) return;
+    propulsor_ = std::make_shared<BodyForcePropulsor>(c_.propulsor->spec, c_.propulsor->curve);
+    propulsor_->set_surge_speed(-c_.free_stream.dot(propulsor_->spec().axis));
+    propulsor_->normalise(g_);
+    fp_.sources.push_back(propulsor_);
   }
 
   // A run from a restart continues the directory's history; restarting from the
@@ -353,6 +385,13 @@ class SteadyRun {
 
   void announce() const {
     if (opt_.progress || !root_) return;
+    if (propulsor_) {
+      const PropulsorLoads& l = propulsor_->loads();
+      fmt::print("narwhal: propulsor '{}': J {:.4f} (V_A {:.4g}, n {:.4g}), K_T {:.4f}, K_Q {:.5f}, T {:.4g}, Q {:.4g}; "
+                 "{}\n",
+                 propulsor_->name(), l.advance_ratio, l.advance_speed, propulsor_->spec().rps, l.kt, l.kq, l.thrust,
+                 l.torque, propulsor_->curve().describe());
+    }
     if (c_.time.unsteady()) {
       fmt::print("narwhal: {} — {} blocks, {} cells{}, {} steps of {} ({}), up to {} {} each\n", c_.title,
                  g_.blocks.size(), g_.cells(), comm_.size() > 1 ? fmt::format(", {} ranks", comm_.size()) : std::string(),
@@ -722,7 +761,7 @@ class SteadyRun {
     comm_.barrier();
     if (!root_) return;
     write_run_json(file("run.json"), c_, g_, s_, monitors_.last, forces_,
-                   flow_rate_ ? flow_rate_->force() : c_.body_force, comm_.size());
+                   flow_rate_ ? flow_rate_->force() : c_.body_force, comm_.size(), propulsor_.get());
     std::string drops = fmt::format("p {:.1e}, u {:.1e}, v {:.1e}, w {:.1e}", s_.equation_drops[0],
                                     s_.equation_drops[1], s_.equation_drops[2], s_.equation_drops[3]);
     for (const auto& [name, d] : s_.turbulence_drops) drops += fmt::format(", {} {:.1e}", name, d);
@@ -808,6 +847,7 @@ class SteadyRun {
   FlowParams fp_;
   FlowField field_, whole_field_;
   std::unique_ptr<FlowRateControl> flow_rate_;
+  std::shared_ptr<BodyForcePropulsor> propulsor_;
 
   std::unique_ptr<OutputDirectory> out_dir_;  // the root's lock on the output directory
   bool continuing_ = false, own_restart_ = false;

@@ -214,17 +214,22 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
       const int n = static_cast<int>(spec[2]);
       if (!(spec[1] > spec[0])) r.error(key, fmt::format("the end ({}) must lie beyond the start ({})", spec[1], spec[0]));
       const std::string ck = std::string("grid.cluster_") + names[d];
-      const std::string cluster = r.string_or(ck, "start", "where the first spacing applies: \"start\" or \"both\" ends");
-      if (cluster != "start" && cluster != "both") r.error(ck, "expected \"start\" or \"both\", got '" + cluster + "'");
-      if (cluster == "both" && n % 2 != 0) r.error(key, "clustering at both ends needs an even cell count");
+      const std::string cluster =
+          r.string_or(ck, "start", "where the first spacing applies: \"start\", \"both\" ends or the \"middle\"");
+      if (cluster != "start" && cluster != "both" && cluster != "middle")
+        r.error(ck, "expected \"start\", \"both\" or \"middle\", got '" + cluster + "'");
+      const bool halves = cluster == "both" || cluster == "middle";
+      if (halves && n % 2 != 0) r.error(key, "clustering at both ends or in the middle needs an even cell count");
       // The first cell cannot be longer than the stretch it starts (half of it when both ends are clustered).
-      const Real span = (spec[1] - spec[0]) / (cluster == "both" ? 2 : 1);
+      const Real span = (spec[1] - spec[0]) / (halves ? 2 : 1);
       const std::string sk = std::string("grid.first_spacing_") + names[d];
       const Real ds = r.number_or(sk, 0.0, "the first spacing from the start (0: uniform)", Range::between(0.0, span));
       if (ds <= 0.0)
         g.box_nodes[d] = uniform_nodes(spec[0], spec[1], n);
       else if (cluster == "both")
         g.box_nodes[d] = geometric_nodes_both_ends(spec[0], spec[1], n, ds);
+      else if (cluster == "middle")
+        g.box_nodes[d] = geometric_nodes_from_middle(spec[0], spec[1], n, ds);
       else
         g.box_nodes[d] = geometric_nodes(spec[0], spec[1], n, ds);
     }
@@ -472,6 +477,7 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                                 Range::at_least(0));
   if (c.bulk_velocity > 0.0 && c.body_force.norm() == 0.0)
     r.error("flow.bulk_velocity", "needs flow.body_force for the direction and first estimate of the force");
+  c.propulsor = read_propulsor(r, base_dir);
   c.manufactured = r.boolean_or("flow.manufactured_solution", false, "whether to run the §12.2 manufactured solution");
   if (c.manufactured) c.mms.nu = 1.0 / f.reynolds;
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "config/propulsor_config.hpp"
 #include "implicit/newton.hpp"
 #include "mesh/block.hpp"
 #include "mesh/appended_suboff.hpp"
@@ -139,6 +140,7 @@ struct CaseConfig {
   TurbulenceSettings turbulence;
   Vec3 body_force = Vec3::Zero();  // constant momentum source per unit volume (drives periodic ducts)
   Real bulk_velocity = 0.0;        // > 0: the body force is adjusted to this bulk velocity (physics/flow_rate.hpp)
+  std::optional<PropulsorConfig> propulsor;  // [propulsor]: a body-force propulsor (NUMERICS §9)
   bool manufactured = false;
   ManufacturedSolution mms;
   // Blocks are cut into pieces as if for this many ranks (0: the ranks of the run).

@@ -13,6 +13,19 @@ std::vector<Real> uniform_nodes(Real a, Real b, int n) {
   return x;
 }
 
+std::vector<Real> geometric_nodes_from_middle(Real a, Real b, int n, Real ds) {
+  if (n % 2 != 0) fail("geometric_nodes_from_middle: the cell count {} must be even", n);
+  const Real mid = 0.5 * (a + b);
+  const auto half = geometric_nodes(mid, b, n / 2, ds);
+  std::vector<Real> x(n + 1);
+  for (int i = 0; i <= n / 2; ++i) {
+    x[n / 2 + i] = half[i];
+    x[n / 2 - i] = a + b - half[i];  // the mirror image about the middle
+  }
+  x[0] = a, x[n] = b;
+  return x;
+}
+
 namespace {
 // Growth ratio r with ds (r^n - 1)/(r - 1) = L, by bisection (monotone in r).
 Real growth_ratio(Real L, int n, Real ds) {

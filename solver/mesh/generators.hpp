@@ -18,6 +18,9 @@ std::vector<Real> geometric_nodes_to_end(Real a, Real b, int n, Real ds_last);
 // Geometric growth from both ends towards the middle, first spacing ds at each end
 // (n even; the two halves are mirror images: ducts and channels).
 std::vector<Real> geometric_nodes_both_ends(Real a, Real b, int n, Real ds);
+// Geometric growth from the middle out to both ends, first spacing ds either side of the
+// middle (n even; mirror images: a disk or a jet on the box's centre line).
+std::vector<Real> geometric_nodes_from_middle(Real a, Real b, int n, Real ds);
 // Clustered at both ends with first spacing ds_a at a and last spacing ds_b at b, both
 // exact (a tanh stretching made asymmetric by a Moebius map of the unit interval).
 // Needs sqrt(ds_a ds_b) < (b - a) / n.

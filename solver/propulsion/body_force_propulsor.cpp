@@ -39,7 +39,7 @@ void BodyForcePropulsor::set_surge_speed(Real surge_speed) {
 void BodyForcePropulsor::update_scales() {
   if (!normalised_) return;
   axial_scale_ = loads_.thrust / axial_integral_;
-  tangential_scale_ = loads_.torque / torque_integral_;
+  tangential_scale_ = spec_.swirl ? loads_.torque / torque_integral_ : 0.0;
 }
 
 std::optional<BodyForcePropulsor::CellShare> BodyForcePropulsor::share(const Block& b, int i, int j, int k) const {
@@ -128,7 +128,8 @@ void BodyForcePropulsor::add_to_residual(const Block& b, const GhostArray<State>
 Vec3 BodyForcePropulsor::vehicle_force() const { return loads_.thrust * spec_.axis; }
 
 Vec3 BodyForcePropulsor::vehicle_moment(const Vec3& moment_centre) const {
-  return (spec_.centre - moment_centre).cross(vehicle_force()) - loads_.torque * spin();
+  const Real reaction = spec_.swirl ? loads_.torque : 0.0;
+  return (spec_.centre - moment_centre).cross(vehicle_force()) - reaction * spin();
 }
 
 }  // namespace narwhal

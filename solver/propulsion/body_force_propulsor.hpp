@@ -33,6 +33,9 @@ struct PropulsorSpec {
   Real rps = 0.0;            // n, revolutions per unit time (nondimensional, §0.2)
   Real wake_fraction = 0.0;  // w_T of the advance speed V_A = (1 - w_T) u_B (§9.1 option a)
   int sub_points = 4;        // per direction: a cut cell's share of the disk from sub_points^3 points
+  // false: thrust alone, no torque on the fluid nor its reaction on the vehicle (the
+  // actuator disk of momentum theory, whose far wake has a closed form).
+  bool swirl = true;
 };
 
 // The operating point and the loads it gives (nondimensional: rho = 1).

@@ -90,6 +90,18 @@ TEST(Geometry, VolumesAreExactForAffineMapsAndSumToTheDomain) {
   EXPECT_NEAR(gc.blocks[0].vol(0, 0, 0), vol, 1e-9);
 }
 
+TEST(Geometry, NodesGrowingFromTheMiddleAreMirrorImagesWithTheirFirstSpacing) {
+  const std::vector<Real> x = geometric_nodes_from_middle(-4.0, 4.0, 64, 0.03);
+  ASSERT_EQ(x.size(), 65u);
+  EXPECT_EQ(x.front(), -4.0);
+  EXPECT_EQ(x.back(), 4.0);
+  EXPECT_NEAR(x[33] - x[32], 0.03, 1e-12);
+  EXPECT_NEAR(x[32] - x[31], 0.03, 1e-12);
+  for (int i = 0; i <= 64; ++i) EXPECT_NEAR(x[i], -x[64 - i], 1e-14);
+  for (int i = 32; i < 63; ++i) EXPECT_GT(x[i + 2] - x[i + 1], x[i + 1] - x[i]);  // growing outwards
+  EXPECT_THROW(geometric_nodes_from_middle(0.0, 1.0, 5, 0.01), Error);
+}
+
 TEST(Geometry, RotatedSplitBlocksConnectAndCopyGhostNodes) {
   Grid g = random_multiblock_grid(3);
   for (auto s : {"imin", "imax", "jmin", "jmax", "kmin", "kmax"}) assign_bc(g, s, {BcType::Symmetry});

@@ -214,6 +214,19 @@ TEST(BodyForcePropulsor, CentredOnASymmetricGridTheSwirlHasNoSideForce) {
   EXPECT_NEAR(torque / p.loads().torque, 1.0, 1e-10);
 }
 
+TEST(BodyForcePropulsor, WithoutSwirlTheFluidTakesThrustAlone) {
+  const Grid g = disk_box(6, 16);
+  PropulsorSpec s = disk_spec();
+  s.swirl = false;
+  BodyForcePropulsor p(s, dtmb4119());
+  p.set_surge_speed(1.0);
+  p.normalise(g);
+  const auto [force, torque] = fluid_loads(g, p);
+  EXPECT_NEAR(force[0] / p.loads().thrust, 1.0, 1e-10);
+  EXPECT_EQ(torque, 0.0);
+  EXPECT_TRUE(p.vehicle_moment(s.centre).isZero(0.0));
+}
+
 TEST(BodyForcePropulsor, LeftHandedBladesSwirlTheOtherWay) {
   const Grid g = disk_box(8, 24);
   PropulsorSpec s = disk_spec();
@@ -273,6 +286,43 @@ TEST(BodyForcePropulsor, RefusesADiskOutsideTheGridAndBadGeometry) {
   s = disk_spec();
   s.disk.hub_radius = 1.5;
   EXPECT_THROW(BodyForcePropulsor(s, dtmb4119()), Error);
+}
+
+// [propulsor] of the R7a case, read as a run reads it, and what a wrong one is told.
+std::string disk_case() { return test::read_text(source_path("validation/cases/propulsor_open_water/disk.toml")); }
+const std::string kDiskDir = "validation/cases/propulsor_open_water";
+
+std::string propulsor_error(const std::vector<std::string>& overrides, std::string text = disk_case()) {
+  try {
+    (void)parse_case(text, "disk.toml", source_path(kDiskDir), overrides);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(PropulsorCase, ReadsTheDiskAndItsCurve) {
+  const CaseConfig c = parse_case(disk_case(), "disk.toml", source_path(kDiskDir));
+  ASSERT_TRUE(c.propulsor.has_value());
+  EXPECT_EQ(c.propulsor->spec.disk.tip_radius, 0.5);
+  EXPECT_NEAR(c.propulsor->spec.disk.hub_radius, 0.1, 1e-15);
+  EXPECT_EQ(c.propulsor->spec.rotation, 1);
+  EXPECT_EQ(c.propulsor->curve->kt(1.0), 0.075);
+  EXPECT_FALSE(parse_case(disk_case(), "disk.toml", source_path(kDiskDir), {"propulsor.swirl=false"}).propulsor->spec.swirl);
+}
+
+TEST(PropulsorCase, BadInputNamesTheKey) {
+  std::string e = propulsor_error({"propulsor.open_water=\"no_such_table.csv\""});
+  EXPECT_NE(e.find("propulsor.open_water"), std::string::npos) << e;
+  EXPECT_NE(e.find("no_such_table.csv"), std::string::npos) << e;
+  e = propulsor_error({"propulsor.wageningen=\"x.csv\""});
+  EXPECT_NE(e.find("give one open-water curve"), std::string::npos) << e;
+  e = propulsor_error({"propulsor.rotation=\"clockwise\""});
+  EXPECT_NE(e.find("propulsor.rotation"), std::string::npos) << e;
+  e = propulsor_error({"propulsor.hub_ratio=1.0"});
+  EXPECT_NE(e.find("propulsor.hub_ratio"), std::string::npos) << e;
+  e = propulsor_error({"propulsor.rpm=1.0"});
+  EXPECT_NE(e.find("unknown key 'propulsor.rpm'"), std::string::npos) << e;
 }
 
 }  // namespace

@@ -1,0 +1,23 @@
+#pragma once
+// [propulsor]: a body-force propulsor (NUMERICS §9; propulsion/body_force_propulsor.hpp),
+// its open-water curve read when the case is, so that a missing or malformed table is an
+// input error naming the key before any iteration.
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "propulsion/body_force_propulsor.hpp"
+
+namespace narwhal {
+
+class ConfigReader;
+
+struct PropulsorConfig {
+  PropulsorSpec spec;
+  std::shared_ptr<const OpenWaterCurve> curve;
+};
+
+// Nothing without a [propulsor] table. Paths are relative to the case file's folder.
+std::optional<PropulsorConfig> read_propulsor(const ConfigReader& r, const std::string& base_dir);
+
+}  // namespace narwhal

@@ -1,0 +1,126 @@
+"""The propulsor extractors on hand-made box solutions: the planes' momentum and angular
+momentum fluxes against T and Q, and the slipstream's peak against momentum theory."""
+import json
+import math
+import tempfile
+import textwrap
+import unittest
+from pathlib import Path
+
+import numpy as np
+
+import support  # noqa: F401
+
+from harness.casefile import load_rung
+from harness.errors import HarnessError
+from harness.extract import Context, extract
+from harness.propulsor import plane
+from harness.solution import Zone
+
+RUNG = """
+[rung]
+title = "t"
+tiers = ["quick"]
+
+[[run]]
+id = "disk"
+input = "in.toml"
+
+[[check]]
+name = "c"
+extract = { kind = "propulsor_momentum_balance", run = "disk", quantity = "thrust", x_upstream = -1.0, x_downstream = 1.0 }
+comparator = "max"
+tolerance = 1e-3
+rationale = "because"
+"""
+
+INPUT = {"propulsor": {"centre": [0.0, 0.0, 0.0], "diameter": 1.0, "hub_ratio": 0.2, "thickness": 0.2,
+                       "axis": [-1.0, 0.0, 0.0]}}
+
+
+def box_zone(n=(8, 20, 20), extent=2.0, downstream=None):
+    """A box zone [-2, 2]^3; behind x = 0 the cells take downstream(y, z) -> (p, u, v, w)."""
+    xs = np.linspace(-extent, extent, n[0] + 1)
+    ys = np.linspace(-extent, extent, n[1] + 1)
+    zs = np.linspace(-extent, extent, n[2] + 1)
+    Z, Y, X = np.meshgrid(zs, ys, xs, indexing="ij")
+    nodes = np.stack([X, Y, Z], axis=-1)
+    zone = Zone("box", nodes, {k: np.zeros((n[2], n[1], n[0])) for k in ("p", "u", "v", "w")})
+    zone.fields["u"][:] = 1.0
+    c = zone.centres
+    behind = c[..., 0] > 0.0
+    if downstream:
+        p, u, v, w = downstream(c[..., 1], c[..., 2])
+        for name, value in zip(("p", "u", "v", "w"), (p, u, v, w)):
+            zone.fields[name] = np.where(behind, value, zone.fields[name])
+    return zone
+
+
+class PropulsorExtractors(unittest.TestCase):
+    def setUp(self):
+        self.dir = Path(tempfile.mkdtemp())
+        case = self.dir / "rung"
+        case.mkdir()
+        (case / "in.toml").write_text("")
+        (case / "case.toml").write_text(textwrap.dedent(RUNG))
+        self.rung = load_rung(case / "case.toml")
+
+    def context(self, zone, propulsor, inputs=INPUT):
+        d = self.dir / "runs" / "disk"
+        d.mkdir(parents=True, exist_ok=True)
+        (d / "run.json").write_text(json.dumps({"propulsor": propulsor}))
+        ctx = Context(self.rung, {"disk": d}, {"disk": inputs})
+        ctx._solutions["disk"] = [zone]
+        return ctx
+
+    def test_the_plane_covers_the_box(self):
+        cells = plane([box_zone()], 0.3)
+        self.assertAlmostEqual(float(np.sum(cells["area"])), 16.0, places=12)
+        with self.assertRaises(HarnessError):
+            plane([box_zone()], 5.0)
+
+    def test_a_jet_behind_the_disk_carries_its_thrust(self):
+        jet = lambda y, z: (0.0 * y, np.where(y ** 2 + z ** 2 < 0.25, 1.1, 1.0), 0.0 * y, 0.0 * y)  # noqa: E731
+        zone = box_zone(downstream=jet)
+        cells = plane([zone], 1.0)
+        thrust = float(np.sum(cells["u"] * (cells["u"] - 1.0) * cells["area"]))
+        spec = {"kind": "propulsor_momentum_balance", "run": "disk", "quantity": "thrust", "x_upstream": -1.0,
+                "x_downstream": 1.0}
+        self.assertAlmostEqual(extract(self.context(zone, {"thrust": thrust, "torque": 1.0, "rotation": "right"}), spec),
+                               0.0, places=12)
+        self.assertAlmostEqual(extract(self.context(zone, {"thrust": 2 * thrust, "torque": 1.0, "rotation": "right"}),
+                                       spec), 0.5, places=12)
+
+    def test_a_swirl_turned_with_right_handed_blades_about_minus_x_carries_the_torque(self):
+        # Right-handed about e_a = -x: the water turns negatively about +x (w = -c y, v = c z).
+        c = 0.05
+        swirl = lambda y, z: (0.0 * y, 1.0 + 0.0 * y, c * z, -c * y)  # noqa: E731
+        zone = box_zone(downstream=swirl)
+        cells = plane([zone], 1.0)
+        torque = float(np.sum(c * (cells["y"] ** 2 + cells["z"] ** 2) * cells["area"]))
+        spec = {"kind": "propulsor_momentum_balance", "run": "disk", "quantity": "torque", "x_upstream": -1.0,
+                "x_downstream": 1.0}
+        self.assertAlmostEqual(extract(self.context(zone, {"thrust": 1.0, "torque": torque, "rotation": "right"}), spec),
+                               0.0, places=12)
+        # Left-handed blades would have turned the water the other way: the balance is off by 2.
+        self.assertAlmostEqual(extract(self.context(zone, {"thrust": 1.0, "torque": torque, "rotation": "left"}), spec),
+                               2.0, places=12)
+
+    def test_the_slipstream_peak_against_momentum_theory(self):
+        thrust = 0.075
+        tip, hub, thickness = 0.5, 0.1, 0.2
+        a_x = 105.0 / 8.0 * thrust / (math.pi * thickness * (3 * hub + 4 * tip) * (tip - hub))
+        peak = math.sqrt(1.0 + 2.0 * a_x * thickness * 2.0 / (3.0 * math.sqrt(3.0)))
+        found = 1.0 + 0.99 * (peak - 1.0)  # one per cent short of the theory's increment
+        slip = lambda y, z: (0.0 * y, np.where(np.hypot(y, z) < 0.4, found, 1.0), 0.0 * y, 0.0 * y)  # noqa: E731
+        ctx = self.context(box_zone(downstream=slip), {"thrust": thrust, "torque": 0.01, "swirl": False,
+                                                        "rotation": "right"})
+        self.assertAlmostEqual(extract(ctx, {"kind": "slipstream_peak", "run": "disk", "x": 1.0}), 0.01, places=10)
+        ctx = self.context(box_zone(downstream=slip), {"thrust": thrust, "torque": 0.01, "swirl": True,
+                                                        "rotation": "right"})
+        with self.assertRaises(HarnessError):
+            extract(ctx, {"kind": "slipstream_peak", "run": "disk", "x": 1.0})
+
+
+if __name__ == "__main__":
+    unittest.main()
