@@ -29,7 +29,7 @@
 #include "physics/flow_rate.hpp"
 #include "physics/invariant_direction.hpp"
 #include "physics/wall_forces.hpp"
-#include "propulsion/body_force_propulsor.hpp"
+#include "app/propulsion_control.hpp"
 #include "turbulence/model.hpp"
 #include "version.hpp"
 
@@ -69,7 +69,7 @@ const char* viscous_name(ViscousForm v) {
 // run.json: what the harness reads of a run. Non-finite numbers become null (valid JSON).
 void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g, const RunSummary& s,
                     const IterationNorms& last, const std::map<std::string, ForceCoefficients>& forces,
-                    const Vec3& body_force, int ranks, const BodyForcePropulsor* propulsor) {
+                    const Vec3& body_force, int ranks, const PropulsionControl* propulsion) {
   nlohmann::ordered_json j;
   j["case"] = c.file;
   j["title"] = c.title;
@@ -120,25 +120,7 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
                    {"force_tolerance", c.solver.force_tolerance},
                    {"force_window", c.solver.force_window}};
   j["body_force"] = {body_force[0], body_force[1], body_force[2]};
-  if (propulsor) {
-    // Nondimensional (rho = 1, §0.2); the loads on the vehicle in grid axes (§9.5).
-    const PropulsorLoads& l = propulsor->loads();
-    const Vec3 F = propulsor->vehicle_force(), M = propulsor->vehicle_moment(c.output.moment_centre);
-    j["propulsor"] = {{"name", propulsor->name()},
-                      {"curve", propulsor->curve().describe()},
-                      {"rps", propulsor->spec().rps},
-                      {"advance_speed", l.advance_speed},
-                      {"advance_ratio", l.advance_ratio},
-                      {"kt", l.kt},
-                      {"kq", l.kq},
-                      {"thrust", l.thrust},
-                      {"torque", l.torque},
-                      {"swirl", propulsor->spec().swirl},
-                      {"rotation", propulsor->spec().rotation > 0 ? "right" : "left"},
-                      {"disk_volume", propulsor->disk_volume()},
-                      {"vehicle_force", {F[0], F[1], F[2]}},
-                      {"vehicle_moment", {M[0], M[1], M[2]}}};
-  }
+  if (propulsion) j["propulsor"] = propulsion->report(c.output.moment_centre);
   nlohmann::ordered_json f = nlohmann::ordered_json::object();
   auto coefficients = [](const Vec3& force, const Vec3& moment) {
     return nlohmann::ordered_json{{"cfx", force[0]},  {"cfy", force[1]},  {"cfz", force[2]},
@@ -286,15 +268,11 @@ class SteadyRun {
     field_.allocate(g_, fp_, c_.initial);
   }
 
-  // §9: the propulsor's operating point at the towing speed (the free stream's part
-  // along its axis: the vehicle's surge speed through the water), its disk normalised on
-  // the run's cells (collective over comm_), one more entry of the source list.
+  // §9: the propulsor (app/propulsion_control.hpp), one more entry of the source list.
   void add_propulsor() {
     if (!c_.propulsor) return;
-    propulsor_ = std::make_shared<BodyForcePropulsor>(c_.propulsor->spec, c_.propulsor->curve);
-    propulsor_->set_surge_speed(-c_.free_stream.dot(propulsor_->spec().axis));
-    propulsor_->normalise(g_);
-    fp_.sources.push_back(propulsor_);
+    propulsion_ = std::make_unique<PropulsionControl>(c_, g_);  // collective: the disk's cells on every rank
+    fp_.sources.push_back(propulsion_->source());
   }
 
   // A run from a restart continues the directory's history; restarting from the
@@ -333,6 +311,7 @@ class SteadyRun {
            "with the step it had)", *opt_.restart, info_.time_step_size, c_.time.step);
     if (own_restart_) last_restart_ = info_.iteration;
     if (flow_rate_ && info_.body_force > 0.0) flow_rate_->set_magnitude(info_.body_force);
+    if (propulsion_) propulsion_->restore(info_.propulsor_state);
   }
 
   // Single grid: one Newton-SGS iteration per step; multigrid: one FAS cycle. The
@@ -385,13 +364,7 @@ class SteadyRun {
 
   void announce() const {
     if (opt_.progress || !root_) return;
-    if (propulsor_) {
-      const PropulsorLoads& l = propulsor_->loads();
-      fmt::print("narwhal: propulsor '{}': J {:.4f} (V_A {:.4g}, n {:.4g}), K_T {:.4f}, K_Q {:.5f}, T {:.4g}, Q {:.4g}; "
-                 "{}\n",
-                 propulsor_->name(), l.advance_ratio, l.advance_speed, propulsor_->spec().rps, l.kt, l.kq, l.thrust,
-                 l.torque, propulsor_->curve().describe());
-    }
+    if (propulsion_) fmt::print("narwhal: {}\n", propulsion_->describe());
     if (c_.time.unsteady()) {
       fmt::print("narwhal: {} — {} blocks, {} cells{}, {} steps of {} ({}), up to {} {} each\n", c_.title,
                  g_.blocks.size(), g_.cells(), comm_.size() > 1 ? fmt::format(", {} ranks", comm_.size()) : std::string(),
@@ -412,6 +385,7 @@ class SteadyRun {
         const int it = s_.iterations + 1;
         step();
         measure_forces();
+        if (propulsion_) propulsion_->after_cycle(it, g_, field_, forces_);  // collective; the next cycle's loads
         force_steadiness_.observe(forces_);
         const std::string turned = coupling_->observe_forces(it, forces_);
         if (!turned.empty() && root_ && !opt_.progress) fmt::print("narwhal: {}\n", turned);
@@ -639,7 +613,8 @@ class SteadyRun {
 
   // Residuals down by solver.residual_drop and, when the case asks, forces steady.
   bool converged() const {
-    return monitors_.converged(c_.solver.residual_drop, c_.solver.turbulence_target()) && force_steadiness_.steady();
+    return monitors_.converged(c_.solver.residual_drop, c_.solver.turbulence_target()) && force_steadiness_.steady() &&
+           (!propulsion_ || propulsion_->settled());
   }
 
   // True when the run stops here: diverged or converged.
@@ -718,6 +693,7 @@ class SteadyRun {
     r.turbulence_start_ended = start.ended_at;
     r.start_window = start.window;
     r.start_components = start.components;
+    if (propulsion_) r.propulsor_state = propulsion_->checkpoint();
     FlowField& out = assemble();
     const FlowField* previous = dual_time_ ? &assemble_previous_level(r) : nullptr;
     if (root_) write_restart(restart_path_, pieces_ ? whole_ : g_, out, r, c_.text, previous);
@@ -761,7 +737,7 @@ class SteadyRun {
     comm_.barrier();
     if (!root_) return;
     write_run_json(file("run.json"), c_, g_, s_, monitors_.last, forces_,
-                   flow_rate_ ? flow_rate_->force() : c_.body_force, comm_.size(), propulsor_.get());
+                   flow_rate_ ? flow_rate_->force() : c_.body_force, comm_.size(), propulsion_.get());
     std::string drops = fmt::format("p {:.1e}, u {:.1e}, v {:.1e}, w {:.1e}", s_.equation_drops[0],
                                     s_.equation_drops[1], s_.equation_drops[2], s_.equation_drops[3]);
     for (const auto& [name, d] : s_.turbulence_drops) drops += fmt::format(", {} {:.1e}", name, d);
@@ -847,7 +823,7 @@ class SteadyRun {
   FlowParams fp_;
   FlowField field_, whole_field_;
   std::unique_ptr<FlowRateControl> flow_rate_;
-  std::shared_ptr<BodyForcePropulsor> propulsor_;
+  std::unique_ptr<PropulsionControl> propulsion_;
 
   std::unique_ptr<OutputDirectory> out_dir_;  // the root's lock on the output directory
   bool continuing_ = false, own_restart_ = false;

@@ -63,8 +63,25 @@ std::optional<PropulsorConfig> read_propulsor(const ConfigReader& r, const std::
                                 Range{0.0, 1.0, false, true});
   s.swirl = r.boolean_or("propulsor.swirl", s.swirl,
                          "whether the torque swirls the fluid (false: thrust alone, the actuator disk of momentum theory)");
+  if (r.has("propulsor.inflow_distance"))
+    s.inflow_distance = r.number("propulsor.inflow_distance",
+                                 "how far ahead of the disk the advance speed is measured (grid units; NUMERICS §9.1 "
+                                 "option b: about half a diameter)",
+                                 Range::positive());
   s.sub_points = r.integer_or("propulsor.sub_points", s.sub_points,
                               "sub-points per direction that share a cut cell out to the disk", Range::between(1, 16));
+  if (r.has("propulsor.rpm_control")) {
+    RpmControlSettings c;
+    c.interval = r.integer_or("propulsor.rpm_control.interval", c.interval, "cycles between steps of the rotation rate",
+                              Range::between(1, 1e6));
+    c.relaxation = r.number_or("propulsor.rpm_control.relaxation", c.relaxation,
+                               "the fraction of the Newton step on thrust - resistance taken", Range{0.0, 1.0, true, false});
+    c.tolerance = r.number_or("propulsor.rpm_control.tolerance", c.tolerance,
+                              "|T - R| / R at which the rotation rate has settled", Range::positive());
+    c.max_change = r.number_or("propulsor.rpm_control.max_change", c.max_change,
+                               "the largest relative change of the rotation rate in one step", Range::positive());
+    p.rpm_control = c;
+  }
   return p;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "propulsion/body_force_propulsor.hpp"
+#include "propulsion/rpm_controller.hpp"
 
 namespace narwhal {
 
@@ -15,6 +16,8 @@ class ConfigReader;
 struct PropulsorConfig {
   PropulsorSpec spec;
   std::shared_ptr<const OpenWaterCurve> curve;
+  // [propulsor.rpm_control]: the rotation rate moved to the self-propulsion point.
+  std::optional<RpmControlSettings> rpm_control;
 };
 
 // Nothing without a [propulsor] table. Paths are relative to the case file's folder.

@@ -250,6 +250,8 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
       write_scalar_attr(path, file, "force_components", H5T_NATIVE_INT, info.force_components);
       write_dataset(path, file, "force_window", {info.force_window.size()}, info.force_window.data());
     }
+    if (!info.propulsor_state.empty())
+      write_dataset(path, file, "propulsor_state", {info.propulsor_state.size()}, info.propulsor_state.data());
     if (!info.body_state.empty())  // a free body's state (motion/coupled_body.hpp)
       write_dataset(path, file, "body_state", {info.body_state.size()}, info.body_state.data());
     write_scalar_attr(path, file, "turbulence_starting", H5T_NATIVE_INT, info.turbulence_starting ? 1 : 0);
@@ -398,6 +400,10 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
     info.force_components = read_scalar_attr<int>(path, file, "force_components", H5T_NATIVE_INT);
     const hsize_t n = dataset_length(path, file, "force_window");
     read_dataset(path, file, "force_window", {n}, info.force_window);
+  }
+  if (H5Lexists(file, "propulsor_state", H5P_DEFAULT) > 0) {
+    const hsize_t n = dataset_length(path, file, "propulsor_state");
+    read_dataset(path, file, "propulsor_state", {n}, info.propulsor_state);
   }
   if (H5Lexists(file, "body_state", H5P_DEFAULT) > 0) {
     const hsize_t n = dataset_length(path, file, "body_state");

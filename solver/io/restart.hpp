@@ -64,6 +64,9 @@ struct RestartInfo {
   std::vector<std::array<double, 6>> reference_extents{};
   // A free body's state (CoupledBody::checkpoint; empty: none).
   std::vector<Real> body_state{};
+  // A body-force propulsor's operating point and its rpm controller (app/propulsion_control.hpp),
+  // flattened; empty: none (also for older restarts).
+  std::vector<Real> propulsor_state{};
 };
 
 // Writes atomically (temporary file + rename) so a crash never leaves a torn restart;

@@ -25,15 +25,64 @@ BodyForcePropulsor::BodyForcePropulsor(PropulsorSpec spec, std::shared_ptr<const
 }
 
 void BodyForcePropulsor::set_surge_speed(Real surge_speed) {
-  surge_speed_ = surge_speed;
+  loads_.surge_speed = surge_speed;
+  // Until the flow is measured (option b) the advance speed is option a's.
+  set_advance_speed((1.0 - spec_.wake_fraction) * surge_speed);
+}
+
+void BodyForcePropulsor::set_advance_speed(Real advance_speed) {
   const Real n = spec_.rps, D = 2.0 * spec_.disk.tip_radius;
-  loads_.advance_speed = (1.0 - spec_.wake_fraction) * surge_speed;
-  loads_.advance_ratio = loads_.advance_speed / (n * D);
+  loads_.advance_speed = advance_speed;
+  loads_.wake_fraction = loads_.surge_speed != 0.0 ? 1.0 - advance_speed / loads_.surge_speed : 0.0;
+  loads_.advance_ratio = advance_speed / (n * D);
   loads_.kt = curve_->kt(loads_.advance_ratio);
   loads_.kq = curve_->kq(loads_.advance_ratio);
   loads_.thrust = loads_.kt * n * n * std::pow(D, 4);  // §9.1, rho = 1
   loads_.torque = loads_.kq * n * n * std::pow(D, 5);
   update_scales();
+}
+
+void BodyForcePropulsor::set_rps(Real rps) {
+  if (!(rps > 0.0)) fail("propulsor '{}': the rotation rate must stay positive, got {}", spec_.name, rps);
+  spec_.rps = rps;
+  set_advance_speed(loads_.advance_speed);
+}
+
+void BodyForcePropulsor::restore_operating_point(Real rps, Real advance_speed) {
+  if (!(rps > 0.0)) fail("propulsor '{}': a restart's rotation rate must be positive, got {}", spec_.name, rps);
+  spec_.rps = rps;
+  set_advance_speed(advance_speed);
+}
+
+Real BodyForcePropulsor::thrust_slope() const {
+  const Real n = spec_.rps, D = 2.0 * spec_.disk.tip_radius, J = loads_.advance_ratio;
+  const Real h = 1e-4;
+  const Real dkt = (curve_->kt(J + h) - curve_->kt(J - h)) / (2.0 * h);
+  return std::pow(D, 4) * (2.0 * n * loads_.kt - dkt * loads_.advance_speed / D);
+}
+
+void BodyForcePropulsor::measure_inflow(const Grid& g, const std::vector<GhostArray<State>>& Q) {
+  if (!spec_.inflow_distance) return;
+  const Vec3 centre = spec_.centre + *spec_.inflow_distance * spec_.axis;
+  std::vector<Real> partials(2 * g.blocks.size(), 0.0);  // per block: sum V u_a, sum V
+  for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
+    if (!g.owns(ib)) continue;
+    const Block& b = g.blocks[ib];
+    for_each_cell(b, [&](int i, int j, int k) {
+      const auto s = share(b, i, j, k, centre);
+      if (!s) return;
+      // The water's velocity relative to the grid (a moving grid's own velocity taken off).
+      const Vec3 u = Q[ib](i, j, k).tail<3>() - b.motion.at(b.xc(i, j, k));
+      const Real V = b.vol(i, j, k) * s->fraction;
+      partials[2 * ib] += V * (-u.dot(spec_.axis));
+      partials[2 * ib + 1] += V;
+    });
+  }
+  const std::vector<Real> total = sum_in_block_order(g, std::move(partials), 2);
+  if (!(total[1] > 0.0))
+    fail("propulsor '{}': no cell of the grid lies in its inflow annulus {} ahead of the disk", spec_.name,
+         *spec_.inflow_distance);
+  set_advance_speed(total[0] / total[1]);
 }
 
 void BodyForcePropulsor::update_scales() {
@@ -42,14 +91,15 @@ void BodyForcePropulsor::update_scales() {
   tangential_scale_ = spec_.swirl ? loads_.torque / torque_integral_ : 0.0;
 }
 
-std::optional<BodyForcePropulsor::CellShare> BodyForcePropulsor::share(const Block& b, int i, int j, int k) const {
+std::optional<BodyForcePropulsor::CellShare> BodyForcePropulsor::share(const Block& b, int i, int j, int k,
+                                                                       const Vec3& centre) const {
   const auto& d = spec_.disk;
   const Vec3& e = spec_.axis;
   // Cells whose corners all lie farther than the disk reaches are left at once.
   const Vec3 xc = b.xc(i, j, k);
   Real reach = 0.0;
   for (int c = 0; c < 8; ++c) reach = std::max(reach, (b.x(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2)) - xc).norm());
-  const Vec3 rel = xc - spec_.centre;
+  const Vec3 rel = xc - centre;
   const Real xa = rel.dot(e), r = (rel - xa * e).norm();
   if (std::abs(xa) > 0.5 * d.thickness + reach || r > d.tip_radius + reach || r < d.hub_radius - reach)
     return std::nullopt;
@@ -68,7 +118,7 @@ std::optional<BodyForcePropulsor::CellShare> BodyForcePropulsor::share(const Blo
           const Real weight = (di ? xi : 1 - xi) * (dj ? eta : 1 - eta) * (dk ? zeta : 1 - zeta);
           p += weight * b.x(i + di, j + dj, k + dk);
         }
-        const Vec3 q = p - spec_.centre;
+        const Vec3 q = p - centre;
         const Real qa = q.dot(e);
         const Vec3 radial = q - qa * e;
         const Real rq = radial.norm();

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "core/types.hpp"
+#include "fields/ghost_array.hpp"
 #include "physics/volume_source.hpp"
 #include "propulsion/hough_ordway.hpp"
 #include "propulsion/open_water.hpp"
@@ -36,11 +37,17 @@ struct PropulsorSpec {
   // false: thrust alone, no torque on the fluid nor its reaction on the vehicle (the
   // actuator disk of momentum theory, whose far wake has a closed form).
   bool swirl = true;
+  // Set: the advance speed measured in the flow (§9.1 option b), the volume mean of the
+  // water's speed along -e_a over an annulus of the disk's radii and thickness this far
+  // ahead of the disk (along e_a); the wake fraction is then an outcome, 1 - V_A / u_B.
+  std::optional<Real> inflow_distance;
 };
 
 // The operating point and the loads it gives (nondimensional: rho = 1).
 struct PropulsorLoads {
+  Real surge_speed = 0.0;    // u_B, the vehicle's speed through the water along e_a
   Real advance_speed = 0.0;  // V_A
+  Real wake_fraction = 0.0;  // 1 - V_A / u_B
   Real advance_ratio = 0.0;  // J = V_A / (n D)
   Real kt = 0.0, kq = 0.0;
   Real thrust = 0.0;  // T = K_T n^2 D^4
@@ -58,7 +65,18 @@ class BodyForcePropulsor final : public VolumeSource {
   // The operating point at the vehicle's surge speed u_B (its speed through the water
   // along e_a): V_A = (1 - w_T) u_B, J = V_A / (n D), T and Q from the curve (§9.1).
   void set_surge_speed(Real surge_speed);
+  // With an inflow_distance: V_A measured in the flow f on g (§9.1 option b; lagged: the
+  // loads of the next residuals follow it). Collective over the ranks sharing g. Without
+  // one it does nothing.
+  void measure_inflow(const Grid& g, const std::vector<GhostArray<State>>& Q);
   const PropulsorLoads& loads() const { return loads_; }
+  // A new rotation rate (an rpm controller's): the loads at the present advance speed.
+  void set_rps(Real rps);
+  // A restart's rotation rate and advance speed (as the run that wrote it had them).
+  void restore_operating_point(Real rps, Real advance_speed);
+  // dT/dn at the present advance speed: D^4 (2 n K_T - K_T'(J) V_A / D), K_T' by central
+  // differences of the curve.
+  Real thrust_slope() const;
 
   // The discrete renormalisation (§9.4): the constants that make the disk's cells of g
   // carry T and Q exactly (sum_c V_c f_a,c = T, sum_c V_c ((x_c - x_p) x f_c).w_p = Q).
@@ -85,14 +103,16 @@ class BodyForcePropulsor final : public VolumeSource {
     Real axial = 0.0;
     Vec3 tangential = Vec3::Zero();
   };
-  std::optional<CellShare> share(const Block& b, int i, int j, int k) const;
+  // Of the disk, or of the annulus like it centred at `centre`.
+  std::optional<CellShare> share(const Block& b, int i, int j, int k, const Vec3& centre) const;
+  std::optional<CellShare> share(const Block& b, int i, int j, int k) const { return share(b, i, j, k, spec_.centre); }
+  void set_advance_speed(Real advance_speed);  // J, K_T, K_Q, T, Q and the scales
   Vec3 spin() const { return static_cast<Real>(spec_.rotation) * spec_.axis; }
   void update_scales();  // the force per volume per unit shape, from T, Q and the integrals
 
   PropulsorSpec spec_;
   std::shared_ptr<const OpenWaterCurve> curve_;
   PropulsorLoads loads_;
-  Real surge_speed_ = 0.0;
   Real axial_scale_ = 0.0, tangential_scale_ = 0.0;  // force per volume per unit shape
   Real axial_integral_ = 0.0, torque_integral_ = 0.0;  // sum_c V_c axial, sum_c V_c q_c (normalise)
   Real disk_volume_ = 0.0;

@@ -227,6 +227,32 @@ TEST(BodyForcePropulsor, WithoutSwirlTheFluidTakesThrustAlone) {
   EXPECT_TRUE(p.vehicle_moment(s.centre).isZero(0.0));
 }
 
+TEST(BodyForcePropulsor, AdvanceSpeedMeasuredAheadOfTheDisk) {
+  Grid g = disk_box(8, 24);
+  PropulsorSpec s = disk_spec();
+  s.centre = Vec3(0.1, 0.0, 0.0);
+  s.inflow_distance = 0.2;  // the annulus at x = -0.1, inside the box
+  BodyForcePropulsor p(s, dtmb4119());
+  p.set_surge_speed(1.0);
+  p.normalise(g);
+  EXPECT_DOUBLE_EQ(p.loads().advance_speed, 0.9);  // option a's until measured
+  // The water along +x at 0.8 plus a part odd across the axis: its mean over the
+  // (symmetric) annulus is 0.8.
+  std::vector<GhostArray<State>> Q;
+  for (const Block& b : g.blocks) {
+    Q.emplace_back(b.ni, b.nj, b.nk, 2, State::Zero());
+    for_each_cell(b, [&](int i, int j, int k) { Q.back()(i, j, k) << 0.0, 0.8 + 0.3 * b.xc(i, j, k)[1], 0.1, 0.0; });
+  }
+  p.measure_inflow(g, Q);
+  EXPECT_NEAR(p.loads().advance_speed, 0.8, 1e-12);
+  EXPECT_NEAR(p.loads().wake_fraction, 0.2, 1e-12);
+  EXPECT_NEAR(p.loads().advance_ratio, 0.8 / (1.5 * 2.0), 1e-12);
+  EXPECT_DOUBLE_EQ(p.loads().thrust, p.curve().kt(p.loads().advance_ratio) * 1.5 * 1.5 * 16.0);
+  // The fluid's loads follow the measured operating point.
+  const auto [force, torque] = fluid_loads(g, p);
+  EXPECT_NEAR(force[0] / p.loads().thrust, 1.0, 1e-10);
+}
+
 TEST(BodyForcePropulsor, LeftHandedBladesSwirlTheOtherWay) {
   const Grid g = disk_box(8, 24);
   PropulsorSpec s = disk_spec();
