@@ -350,6 +350,9 @@ class SteadyRun {
     if (root_)
       history_ = std::make_unique<HistoryWriter>(file("history.csv"), groups_, turb_names_,
                                                  continuing_ ? std::optional<int>(info_.iteration) : std::nullopt);
+    if (root_ && propulsion_)
+      propulsor_csv_ = std::make_unique<PropulsorWriter>(
+          file("propulsor.csv"), continuing_ ? std::optional<int>(info_.iteration) : std::nullopt);
     s_.iterations = info_.iteration;
     if (!opt_.restart) return;
     // The restored state's monitors are those of the iteration that wrote it; a run
@@ -385,7 +388,7 @@ class SteadyRun {
         const int it = s_.iterations + 1;
         step();
         measure_forces();
-        if (propulsion_) propulsion_->after_cycle(it, g_, field_, forces_);  // collective; the next cycle's loads
+        if (propulsion_) record_propulsion(it);
         force_steadiness_.observe(forces_);
         const std::string turned = coupling_->observe_forces(it, forces_);
         if (!turned.empty() && root_ && !opt_.progress) fmt::print("narwhal: {}\n", turned);
@@ -412,6 +415,17 @@ class SteadyRun {
                                turb_ ? fmt::format(", turbulence drop {:.2e}", monitors_.turb_drop) : std::string(),
                                describe_slowest_equation());
     close_loop();
+  }
+
+  // The propulsor after an iteration (collective: its inflow, the controller's step on the
+  // resistance), then propulsor.csv.
+  void record_propulsion(int it) {
+    propulsion_->after_cycle(it, g_, field_, forces_);
+    if (!propulsor_csv_) return;
+    const BodyForcePropulsor& p = propulsion_->propulsor();
+    const PropulsorLoads& l = p.loads();
+    propulsor_csv_->write(it, p.spec().rps, l.advance_speed, l.advance_ratio, l.thrust, l.torque,
+                          propulsion_->resistance());
   }
 
   // A dual-time run (§6.8): physical steps, each moving the time levels on and
@@ -824,6 +838,7 @@ class SteadyRun {
   FlowField field_, whole_field_;
   std::unique_ptr<FlowRateControl> flow_rate_;
   std::unique_ptr<PropulsionControl> propulsion_;
+  std::unique_ptr<PropulsorWriter> propulsor_csv_;
 
   std::unique_ptr<OutputDirectory> out_dir_;  // the root's lock on the output directory
   bool continuing_ = false, own_restart_ = false;

@@ -35,6 +35,7 @@ class PropulsionControl {
                    const std::map<std::string, ForceCoefficients>& forces);
   // Whether the rotation rate has settled (always, without a controller).
   bool settled() const { return !rpm_ || rpm_->settled(); }
+  Real resistance() const { return resistance_; }  // along the thrust axis, when last measured
 
   std::vector<Real> checkpoint() const;
   void restore(const std::vector<Real>& state);

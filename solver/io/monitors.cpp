@@ -91,6 +91,15 @@ void HistoryWriter::write(int iteration, Real wall_seconds, const IterationNorms
   file_.append(row + force_fields(groups_, forces) + "\n");
 }
 
+PropulsorWriter::PropulsorWriter(const std::string& path, std::optional<int> resume_after)
+    : file_(path, "iteration,rps,advance_speed,advance_ratio,thrust,torque,resistance\n", resume_after) {}
+
+void PropulsorWriter::write(int iteration, Real rps, Real advance_speed, Real advance_ratio, Real thrust, Real torque,
+                            Real resistance) {
+  file_.append(fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", iteration, rps, advance_speed,
+                           advance_ratio, thrust, torque, resistance));
+}
+
 StepsWriter::StepsWriter(const std::string& path, const std::vector<std::string>& groups,
                          std::optional<int> resume_after)
     : groups_(groups), file_(path, "step,time,subiterations,drop" + force_header(groups) + "\n", resume_after) {}

@@ -46,6 +46,20 @@ class HistoryWriter {
   AppendedCsv file_;
 };
 
+// propulsor.csv of a run with a propulsor (app/propulsion_control.hpp): one row per
+// iteration after the controller's step: the rotation rate and advance speed the next
+// iteration uses, its J, T and Q, and the walls' resistance along the thrust axis
+// (nondimensional, rho = U = 1).
+class PropulsorWriter {
+ public:
+  PropulsorWriter(const std::string& path, std::optional<int> resume_after);
+  void write(int iteration, Real rps, Real advance_speed, Real advance_ratio, Real thrust, Real torque,
+             Real resistance);
+
+ private:
+  AppendedCsv file_;
+};
+
 // steps.csv of a dual-time run: one row per physical step (step, time t^{n+1}, the
 // sub-iterations it took, the drop |R*| / |R*_0| they reached, each wall group's force
 // and moment coefficients at the step's end).
