@@ -23,7 +23,7 @@ void PropulsionControl::after_cycle(int cycle, const Grid& g, const FlowField& f
   // (rho = U = 1).
   Real along = 0.0;
   for (const auto& [name, fc] : forces) along += fc.force.dot(propulsor_->spec().axis);
-  resistance_ = -0.5 * reference_area_ * along;
+  resistance_ = -0.5 * reference_area_ * along + 0.0;  // + 0.0: no "-0" in the outputs
   if (!rpm_) return;
   const Real n = propulsor_->spec().rps;
   const Real next = rpm_->update(cycle, n, propulsor_->loads().thrust, resistance_, propulsor_->thrust_slope());

@@ -117,3 +117,32 @@ def slipstream_peak(ctx, spec, run_id):
     k = int(np.argmax(cells["u"]))
     theory = math.sqrt(2.0 * (0.5 + jump - cells["p"][k]))
     return abs((cells["u"][k] - 1.0) / (theory - 1.0) - 1.0)
+
+
+@extractor("propulsor_value", "field")
+def propulsor_value(ctx, spec, run_id):
+    """A number of run.json's propulsor report: "wake_fraction", "advance_ratio", "thrust",
+    "rps"..., or the rpm controller's "rpm_control.surplus" (|T - R| / R when it last measured)."""
+    node = _propulsor(ctx, run_id)
+    field = spec.get("field")
+    for part in str(field).split("."):
+        if not isinstance(node, dict) or part not in node:
+            raise HarnessError(f"run.json of '{run_id}': the propulsor report has no '{field}'")
+        node = node[part]
+    return abs(float(node)) if field == "rpm_control.surplus" else float(node)
+
+
+@extractor("thrust_deduction", "towed")
+def thrust_deduction(ctx, spec, run_id):
+    """t = (T - R_towed) / T: the self-propelled run's thrust against the resistance the same
+    vehicle had towed without its propulsor (run `towed`, the same grid and settings), both
+    along the thrust axis from the walls' force coefficients (C_F = 2 F / A_ref)."""
+    thrust = float(_propulsor(ctx, run_id)["thrust"])
+    towed = spec.get("towed")
+    axis = np.array([float(v) for v in ctx.inputs[run_id].get("propulsor", {}).get("axis", [-1.0, 0.0, 0.0])])
+    axis /= np.linalg.norm(axis)
+    with open(ctx.run_dir(towed) / "run.json") as f:
+        forces = json.load(f)["forces"]
+    area = float(ctx.input_value(towed, "output.reference_area"))
+    along = sum(np.dot([forces[g]["cfx"], forces[g]["cfy"], forces[g]["cfz"]], axis) for g in forces)
+    return (thrust - (-0.5 * area * along)) / thrust

@@ -121,6 +121,22 @@ class PropulsorExtractors(unittest.TestCase):
         with self.assertRaises(HarnessError):
             extract(ctx, {"kind": "slipstream_peak", "run": "disk", "x": 1.0})
 
+    def test_the_propulsor_report_and_the_thrust_deduction(self):
+        ctx = self.context(box_zone(), {"thrust": 0.5, "wake_fraction": 0.25, "rpm_control": {"surplus": -1e-3}})
+        self.assertEqual(extract(ctx, {"kind": "propulsor_value", "run": "disk", "field": "wake_fraction"}), 0.25)
+        self.assertEqual(extract(ctx, {"kind": "propulsor_value", "run": "disk", "field": "rpm_control.surplus"}), 1e-3)
+        with self.assertRaises(HarnessError):
+            extract(ctx, {"kind": "propulsor_value", "run": "disk", "field": "rpm"})
+        # Towed without the propulsor: drag along +x, 0.4 of the thrust's 0.5 (C_F = 2 F / A, A = 2).
+        towed = self.dir / "runs" / "towed"
+        towed.mkdir(parents=True, exist_ok=True)
+        (towed / "run.json").write_text(json.dumps({"forces": {"body": {"cfx": 0.3, "cfy": 0.0, "cfz": 0.0},
+                                                              "sail": {"cfx": 0.1, "cfy": 0.05, "cfz": 0.0}}}))
+        ctx.run_dirs["towed"] = towed
+        ctx.inputs["towed"] = {"output": {"reference_area": 2.0}}
+        self.assertAlmostEqual(extract(ctx, {"kind": "thrust_deduction", "run": "disk", "towed": "towed"}), 0.2,
+                               places=14)
+
 
 if __name__ == "__main__":
     unittest.main()
