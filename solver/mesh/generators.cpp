@@ -13,19 +13,6 @@ std::vector<Real> uniform_nodes(Real a, Real b, int n) {
   return x;
 }
 
-std::vector<Real> geometric_nodes_from_middle(Real a, Real b, int n, Real ds) {
-  if (n % 2 != 0) fail("geometric_nodes_from_middle: the cell count {} must be even", n);
-  const Real mid = 0.5 * (a + b);
-  const auto half = geometric_nodes(mid, b, n / 2, ds);
-  std::vector<Real> x(n + 1);
-  for (int i = 0; i <= n / 2; ++i) {
-    x[n / 2 + i] = half[i];
-    x[n / 2 - i] = a + b - half[i];  // the mirror image about the middle
-  }
-  x[0] = a, x[n] = b;
-  return x;
-}
-
 namespace {
 // Growth ratio r with ds (r^n - 1)/(r - 1) = L, by bisection (monotone in r).
 Real growth_ratio(Real L, int n, Real ds) {
@@ -63,16 +50,33 @@ std::vector<Real> geometric_nodes_to_end(Real a, Real b, int n, Real ds_last) {
   return x;
 }
 
+namespace {
+
+// The nodes of [a, b] from those of its first half [a, (a + b) / 2] and their mirror image
+// about the middle.
+std::vector<Real> mirrored_about_middle(const std::vector<Real>& first_half, Real a, Real b) {
+  const int h = static_cast<int>(first_half.size()) - 1, n = 2 * h;
+  std::vector<Real> x(static_cast<std::size_t>(n + 1));
+  for (int i = 0; i <= h; ++i) {
+    x[static_cast<std::size_t>(i)] = first_half[static_cast<std::size_t>(i)];
+    x[static_cast<std::size_t>(n - i)] = a + b - first_half[static_cast<std::size_t>(i)];
+  }
+  x[static_cast<std::size_t>(h)] = 0.5 * (a + b);
+  return x;
+}
+
+}  // namespace
+
 std::vector<Real> geometric_nodes_both_ends(Real a, Real b, int n, Real ds) {
   if (n % 2 != 0) fail("geometric_nodes_both_ends: the cell count {} must be even", n);
-  const Real mid = 0.5 * (a + b);
-  const auto half = geometric_nodes(a, mid, n / 2, ds);
-  std::vector<Real> x(n + 1);
-  for (int i = 0; i <= n / 2; ++i) {
-    x[i] = half[i];
-    x[n - i] = a + b - half[i];  // the mirror image about the middle
-  }
-  x[n / 2] = mid;
+  return mirrored_about_middle(geometric_nodes(a, 0.5 * (a + b), n / 2, ds), a, b);
+}
+
+std::vector<Real> geometric_nodes_from_middle(Real a, Real b, int n, Real ds) {
+  if (n % 2 != 0) fail("geometric_nodes_from_middle: the cell count {} must be even", n);
+  // The first half grows from the middle back to a.
+  std::vector<Real> x = mirrored_about_middle(geometric_nodes_to_end(a, 0.5 * (a + b), n / 2, ds), a, b);
+  x.back() = b;  // a + b - a need not be b in floating point
   return x;
 }
 

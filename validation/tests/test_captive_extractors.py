@@ -3,15 +3,11 @@ groups in body axes, the derivative against v' = -sin(beta) with its standard er
 oddness of a symmetric configuration's side force, and the refusals."""
 import json
 import math
-import tempfile
-import textwrap
 import unittest
-from pathlib import Path
 
-import support  # noqa: F401
+from support import rung_in_temp_dir
 
 from harness.captive import linear_fit
-from harness.casefile import load_rung
 from harness.errors import HarnessError
 from harness.extract import Context, extract
 from harness.runner import effective_input
@@ -52,12 +48,7 @@ def side_force(beta_deg):
 
 class CaptiveSweeps(unittest.TestCase):
     def setUp(self):
-        self.dir = Path(tempfile.mkdtemp())
-        case = self.dir / "rung"
-        case.mkdir()
-        (case / "in.toml").write_text(textwrap.dedent(INPUT))
-        (case / "case.toml").write_text(textwrap.dedent(RUNG))
-        self.rung = load_rung(case / "case.toml")
+        self.dir, self.rung = rung_in_temp_dir(RUNG, INPUT)
 
     def context(self, split=(0.75, 0.25), inputs=None):
         """Runs whose hull and sail carry `split` of Y' (and of the other components, scaled)."""

@@ -2,16 +2,12 @@
 momentum fluxes against T and Q, and the slipstream's peak against momentum theory."""
 import json
 import math
-import tempfile
-import textwrap
 import unittest
-from pathlib import Path
 
 import numpy as np
 
-import support  # noqa: F401
+from support import rung_in_temp_dir
 
-from harness.casefile import load_rung
 from harness.errors import HarnessError
 from harness.extract import Context, extract
 from harness.propulsor import plane
@@ -58,12 +54,7 @@ def box_zone(n=(8, 20, 20), extent=2.0, downstream=None):
 
 class PropulsorExtractors(unittest.TestCase):
     def setUp(self):
-        self.dir = Path(tempfile.mkdtemp())
-        case = self.dir / "rung"
-        case.mkdir()
-        (case / "in.toml").write_text("")
-        (case / "case.toml").write_text(textwrap.dedent(RUNG))
-        self.rung = load_rung(case / "case.toml")
+        self.dir, self.rung = rung_in_temp_dir(RUNG)
 
     def context(self, zone, propulsor, inputs=INPUT):
         d = self.dir / "runs" / "disk"

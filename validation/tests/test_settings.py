@@ -1,15 +1,11 @@
 """The settings check and table: one set of solver settings over a rung's runs, and any
 setting that differs (or that a run lacks) named."""
 import json
-import tempfile
-import textwrap
 import unittest
-from pathlib import Path
 
-import support  # noqa: F401
+from support import rung_in_temp_dir
 
 from harness import report
-from harness.casefile import load_rung
 from harness.errors import HarnessError
 from harness.extract import Context, extract
 from harness.settings import split_settings
@@ -38,12 +34,7 @@ SETTINGS = {"turbulence_model": "sst", "cfl_max": 1000.0, "multigrid_levels": 3,
 
 class SettingsOverARung(unittest.TestCase):
     def setUp(self):
-        self.dir = Path(tempfile.mkdtemp())
-        case = self.dir / "rung"
-        case.mkdir()
-        (case / "in.toml").write_text("")
-        (case / "case.toml").write_text(textwrap.dedent(RUNG))
-        self.rung = load_rung(case / "case.toml")
+        self.dir, self.rung = rung_in_temp_dir(RUNG)
 
     def context(self, change=None):
         """The sweep's runs with SETTINGS; `change` maps a run index to the settings it updates
