@@ -458,7 +458,8 @@ def _rung_page(rung_dir, res):
     rows = "".join(
         f"<tr><td>{html.escape(r['id'])}</td><td>{html.escape(r.get('peer_version') or r.get('code', 'narwhal'))}</td>"
         f"<td class='{html.escape(str(r.get('status')))}'>{_fmt(r.get('status'))}"
-        f"{' (reused from an earlier sitting)' if r.get('reused') else ''}</td>"
+        f"{' (reused from an earlier sitting)' if r.get('reused') else ''}"
+        f"{' (continued from the restart of an interrupted sitting)' if r.get('continued') else ''}</td>"
         f"<td class=num>{_fmt(r.get('ranks', 1))}</td>"
         f"<td class=num>{_fmt(r.get('iterations'))}</td><td class=num>{_fmt(r.get('wall_seconds'))}</td>"
         f"<td class=num>{_fmt(r.get('cells'))}</td><td class=num>{_fmt(r.get('residual_drop'))}</td>"

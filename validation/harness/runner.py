@@ -126,8 +126,9 @@ def ranks_needed(rung, tier, ranks=1):
 def run_rung(rung, tier, narwhal, out_dir, root, ranks=1, resume=False):
     """Runs the rung's runs of `tier`, then its checks. With `resume`, a Narwhal run whose folder
     holds the record of a finished run of the same command, case folder and solver sources
-    (RUN_RECORD, written after each run) is not run again: a nightly report can be built up over
-    several sittings."""
+    (RUN_RECORD, written after each run) is not run again, and one that was interrupted goes on
+    from the restart it wrote (RUN_STARTED): a nightly report can be built up over several
+    sittings, however long its runs."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     started = time.monotonic()
@@ -149,7 +150,8 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1, resume=False):
         if r.code == "narwhal":
             key = _run_key(r, rd, r.ranks or ranks, narwhal, out_dir, root)
             info = (_recorded_run(rd, key) if resume else None) or \
-                _run_narwhal(r, rd, r.ranks or ranks, narwhal, out_dir, remaining, key)
+                _run_narwhal(r, rd, r.ranks or ranks, narwhal, out_dir, remaining, key,
+                             continue_run=resume and _interrupted_run(rd, key))
         else:
             info = _run_peer(r, rd, r.ranks or ranks, narwhal, out_dir, remaining)
         if "compiler" in info:
@@ -214,6 +216,9 @@ def _narwhal_command(r, rd, n, narwhal, out_dir):
 
 
 RUN_RECORD = "harness_run.json"
+# Written when a run starts: a resumed report continues an interrupted run of the same key
+# from the restart.h5 it left (narwhal continues its own folder's history exactly).
+RUN_STARTED = "harness_run_started.json"
 REUSABLE = (0, 1)  # converged, or ended at max_iterations / stalled: results the checks judge
 
 
@@ -244,17 +249,39 @@ def _recorded_run(rd, key):
     return dict(record["info"], reused=True)
 
 
-def _run_narwhal(r, rd, n, narwhal, out_dir, remaining, key=None):
+def _interrupted_run(rd, key):
+    """Whether `rd` holds a run of the same key that started and did not finish, with the
+    restart.h5 it wrote on the way."""
+    path = rd / RUN_STARTED
+    if key is None or not path.exists() or not (rd / "restart.h5").exists():
+        return False
+    try:
+        return json.loads(path.read_text()).get("key") == key
+    except (OSError, json.JSONDecodeError):
+        return False
+
+
+def _run_narwhal(r, rd, n, narwhal, out_dir, remaining, key=None, continue_run=False):
     """One Narwhal run (under mpirun for n > 1): its entry of result["runs"]; with a key, the
-    record that lets a resumed report reuse it."""
+    record that lets a resumed report reuse it. With continue_run, it goes on from the
+    restart.h5 an interrupted run of the same key left in `rd`."""
     (rd / RUN_RECORD).unlink(missing_ok=True)
     try:
         cmd = _narwhal_command(r, rd, n, narwhal, out_dir)
     except HarnessError as e:
         return {"id": r.id, "status": "crashed (no MPI launcher)", "message": str(e), "ranks": n}
+    if continue_run:
+        if "--restart" in cmd:  # its own restart is later than the run it started from
+            i = cmd.index("--restart")
+            del cmd[i:i + 2]
+        cmd += ["--restart", str(rd / "restart.h5")]
+    elif key is not None:
+        (rd / RUN_STARTED).write_text(json.dumps({"key": key}, indent=1))
     info = {"id": r.id, "code": "narwhal", "command": " ".join(cmd), "log": f"runs/{r.id}/narwhal.log", "ranks": n}
+    if continue_run:
+        info["continued"] = True
     try:
-        with open(rd / "narwhal.log", "w") as log:
+        with open(rd / "narwhal.log", "a" if continue_run else "w") as log:
             proc = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, timeout=max(remaining, 1.0),
                                   env=mpi_environment())
         info["exit_code"] = proc.returncode
@@ -270,6 +297,7 @@ def _run_narwhal(r, rd, n, narwhal, out_dir, remaining, key=None):
         info.update({k: data["provenance"][k] for k in ("compiler", "flags", "version")})
     if key is not None and info.get("exit_code") in REUSABLE:
         (rd / RUN_RECORD).write_text(json.dumps({"key": key, "info": info}, indent=1))
+        (rd / RUN_STARTED).unlink(missing_ok=True)
     return info
 
 

@@ -65,6 +65,30 @@ def counting_narwhal(directory, exit_code=0):
     return exe
 
 
+def interrupted_narwhal(directory):
+    """An executable like counting_narwhal whose first run of a folder is killed after writing
+    its restart.h5 (exit 137); run with --restart it finishes. Each run's arguments go to
+    runs.log beside it, one line per run."""
+    exe = Path(directory) / "narwhal"
+    exe.write_text(textwrap.dedent(f"""\
+        #!/bin/sh
+        [ "$1" = --version ] && echo 'narwhal 0.1.0 (abc, no MPI)' && exit 0
+        echo "$@" >> "{directory}/runs.log"
+        out=""; restart=""
+        while [ $# -gt 0 ]; do
+          [ "$1" = --out ] && out="$2"
+          [ "$1" = --restart ] && restart="$2"
+          shift
+        done
+        mkdir -p "$out"
+        if [ -z "$restart" ]; then echo state > "$out/restart.h5"; exit 137; fi
+        echo '{{"status": "converged", "iterations": 9, "provenance": {{"compiler": "c", "flags": "f", "version": "v"}}}}' > "$out/run.json"
+        exit 0
+        """))
+    exe.chmod(exe.stat().st_mode | stat.S_IXUSR)
+    return exe
+
+
 class ResumedReport(unittest.TestCase):
     """--resume reuses a finished run only when nothing it depends on has changed."""
 
@@ -118,6 +142,23 @@ class ResumedReport(unittest.TestCase):
         (self.root / "solver" / "tests" / "new_test.cpp").write_text("TEST\n")
         (self.root / "solver" / "DESIGN.md").write_text("why\n")
         self.assertEqual(self.runs_made(exe)[0], 0)
+
+    def test_an_interrupted_run_goes_on_from_its_restart(self):
+        exe = interrupted_narwhal(self.root)
+        made, res = self.runs_made(exe)
+        self.assertEqual(res["runs"][0]["status"], "crashed (exit 137)")
+        made, res = self.runs_made(exe)
+        self.assertEqual(made, 1)
+        last = (self.root / "runs.log").read_text().splitlines()[-1]
+        self.assertIn("--restart " + str(self.root / "out" / "runs"), last)
+        self.assertTrue(res["runs"][0]["continued"])
+        self.assertEqual(res["runs"][0]["status"], "converged")
+        self.assertEqual(self.runs_made(exe)[0], 0, "then reused as any finished run")
+        # Without --resume an interrupted run starts afresh.
+        (self.root / "out" / "runs" / "a" / "harness_run.json").unlink()
+        (self.root / "out" / "runs" / "a" / "harness_run_started.json").write_text("{}")
+        self.assertEqual(self.runs_made(exe, resume=False)[0], 1)
+        self.assertNotIn("--restart", (self.root / "runs.log").read_text().splitlines()[-1])
 
     def test_a_diverged_run_is_not_reused(self):
         exe = counting_narwhal(self.root, exit_code=3)
