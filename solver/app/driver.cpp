@@ -362,7 +362,9 @@ class SteadyRun {
     force_steadiness_.restore(info_.force_window, info_.force_components);
     s_.residual_drop = monitors_.drop;
     measure_forces();
-    if (info_.iteration > 0 && converged()) s_.status = RunStatus::Converged;
+    // (A dual-time run has its steps to take, whatever state it starts from: a steady
+    // run's converged end is where a release begins.)
+    if (!c_.time.unsteady() && info_.iteration > 0 && converged()) s_.status = RunStatus::Converged;
   }
 
   void announce() const {
@@ -421,6 +423,10 @@ class SteadyRun {
   // resistance), then propulsor.csv.
   void record_propulsion(int it) {
     propulsion_->after_cycle(it, g_, field_, forces_);
+    write_propulsor_row(it);
+  }
+
+  void write_propulsor_row(int it) {
     if (!propulsor_csv_) return;
     const BodyForcePropulsor& p = propulsion_->propulsor();
     const PropulsorLoads& l = p.loads();
@@ -476,6 +482,7 @@ class SteadyRun {
       grids.push_back(&g_);
     if (pieces_) grids.push_back(&whole_);
     motion_ = std::make_unique<RunMotion>(c_, grids);
+    carry_propulsor();
     measure_forces();
     motion_->start(body_loads());
     if (root_ && motion_->free_body())
@@ -492,7 +499,13 @@ class SteadyRun {
     if (motion_) motion_->place_at_previous_level(info_, c_.time.step);
     dual_time_->restore(g_, restored_previous_, n, info_.time);
     if (motion_) motion_->move_to_present_level(info_, c_.time.step, dual_time_->coefficients_of_step(n));
+    carry_propulsor();
     restored_previous_ = FlowField{};
+  }
+
+  // The propulsor's disk goes where the grid is, its surge speed the motion's (§9.1).
+  void carry_propulsor() {
+    if (propulsion_ && motion_) propulsion_->follow(motion_->sample(), motion_->pivot());
   }
 
   // §6.8 steps 1-2: the grids to the pose of t^{n+1} (a free body's predicted), their
@@ -503,14 +516,16 @@ class SteadyRun {
     if (!motion_) return;
     const Real dt = dual_time_->step_size();
     motion_->begin_step(dual_time_->time() - dt, dt, dual_time_->term().coefficients());
+    carry_propulsor();
     if (turb_) {
       fill_ghosts(g_, field_, fp_);
       turb_->update_viscosity(g_, field_, fp_);
     }
   }
 
-  // The flow's loads on a free body: every wall group's, in grid (earth) axes, about the
-  // body origin, in flow units (the coefficients' reference area and length undone).
+  // The flow's loads on a free body: every wall group's and the propulsor's (§9.5), in
+  // grid (earth) axes, about the body origin, in flow units (the coefficients' reference
+  // area and length undone).
   BodyLoads body_loads() const {
     const Real area = c_.output.reference_area, length = c_.output.reference_length;
     const Vec3 arm = moment_centre() - motion_->origin();
@@ -520,6 +535,7 @@ class SteadyRun {
       total.force += f;
       total.moment += 0.5 * area * length * fc.moment + arm.cross(f);
     }
+    if (propulsion_) total += propulsion_->vehicle_loads(motion_->origin());
     return total;
   }
 
@@ -559,9 +575,15 @@ class SteadyRun {
         }
       }
       measure_forces();
-      if (free)
+      if (propulsion_) {
+        propulsion_->after_subiteration(g_, field_);  // collective
+        write_propulsor_row(it);
+      }
+      if (free) {
         done.coupling_change =
             motion_->correct(body_loads(), dual_time_->step_size(), dual_time_->term().coefficients());
+        carry_propulsor();
+      }
       if (history_) history_->write(it, elapsed(), monitors_.last, forces_, monitors_.turb_res);
       s_.iterations = it;
       s_.residual_drop = done.drop;

@@ -6,14 +6,38 @@
 
 namespace narwhal {
 
+namespace {
+
+// The water's velocity far from the vehicle: the far field's (or inflow's) velocity, the
+// free stream when the case gives none.
+Vec3 far_water_velocity(const CaseConfig& c) {
+  for (const auto& [label, bc] : c.bcs)
+    if (bc.type == BcType::Farfield || bc.type == BcType::Inflow) return bc.velocity;
+  return c.free_stream;
+}
+
+}  // namespace
+
 PropulsionControl::PropulsionControl(const CaseConfig& c, const Grid& g)
     : propulsor_(std::make_shared<BodyForcePropulsor>(c.propulsor->spec, c.propulsor->curve)),
-      reference_area_(c.output.reference_area) {
-  // The towing speed: the free stream's part along the axis, the vehicle's surge speed
-  // through the water.
-  propulsor_->set_surge_speed(-c.free_stream.dot(propulsor_->spec().axis));
+      reference_area_(c.output.reference_area),
+      water_(far_water_velocity(c)) {
+  // The towing speed: the vehicle's speed through the water along the axis.
+  propulsor_->set_surge_speed(-water_.dot(propulsor_->axis()));
   propulsor_->normalise(g);
   if (c.propulsor->rpm_control) rpm_.emplace(*c.propulsor->rpm_control);
+}
+
+void PropulsionControl::follow(const RigidMotionSample& m, const Vec3& pivot) {
+  propulsor_->place(m.pose, pivot);
+  const Vec3 disk_velocity = m.velocity + m.angular_velocity.cross(propulsor_->centre() - m.pose.apply(pivot, pivot));
+  propulsor_->set_surge_speed((disk_velocity - water_).dot(propulsor_->axis()));
+}
+
+void PropulsionControl::after_subiteration(const Grid& g, const FlowField& f) { propulsor_->measure_inflow(g, f.Q); }
+
+BodyLoads PropulsionControl::vehicle_loads(const Vec3& origin) const {
+  return {propulsor_->vehicle_force(), propulsor_->vehicle_moment(origin)};
 }
 
 void PropulsionControl::after_cycle(int cycle, const Grid& g, const FlowField& f,
@@ -22,7 +46,7 @@ void PropulsionControl::after_cycle(int cycle, const Grid& g, const FlowField& f
   // The flow's force on the walls against the thrust's direction: C_F = 2 F / A_ref
   // (rho = U = 1).
   Real along = 0.0;
-  for (const auto& [name, fc] : forces) along += fc.force.dot(propulsor_->spec().axis);
+  for (const auto& [name, fc] : forces) along += fc.force.dot(propulsor_->axis());
   resistance_ = -0.5 * reference_area_ * along + 0.0;  // + 0.0: no "-0" in the outputs
   if (!rpm_) return;
   const Real n = propulsor_->spec().rps;
@@ -42,7 +66,9 @@ std::vector<Real> PropulsionControl::checkpoint() const {
 
 void PropulsionControl::restore(const std::vector<Real>& s) {
   if (s.empty()) return;  // a restart written without a propulsor: start at the case's rotation rate
-  if (s.size() != (rpm_ ? 6u : 2u))
+  // A run without a controller takes the operating point of a restart written with one:
+  // a manoeuvre starts at the self-propulsion point a steady run found.
+  if (s.size() != (rpm_ ? 6u : 2u) && !(s.size() == 6u && !rpm_))
     fail("restart: its propulsor state has {} values, this case's propulsor {} (with{} an rpm controller)", s.size(),
          rpm_ ? 6 : 2, rpm_ ? "" : "out");
   propulsor_->restore_operating_point(s[0], s[1]);

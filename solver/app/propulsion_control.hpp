@@ -13,6 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "config/case_config.hpp"
+#include "motion/grid_motion.hpp"
+#include "motion/rigid_body.hpp"
 #include "physics/wall_forces.hpp"
 #include "propulsion/body_force_propulsor.hpp"
 #include "propulsion/rpm_controller.hpp"
@@ -33,6 +35,17 @@ class PropulsionControl {
   // output.reference_area, as measure_forces leaves them on every rank).
   void after_cycle(int cycle, const Grid& g, const FlowField& f,
                    const std::map<std::string, ForceCoefficients>& forces);
+  // A dual-time run on a moving grid: the disk carried with the grid (pose m about
+  // `pivot`), and the surge speed from the motion, u_B = (v_p - u_water).e_a with v_p
+  // the disk centre's velocity (NUMERICS §9.1).
+  void follow(const RigidMotionSample& m, const Vec3& pivot);
+  // After a dual-time sub-iteration: the advance speed from the flow, when the case
+  // measures it (collective over the ranks sharing g). The rotation rate stays.
+  void after_subiteration(const Grid& g, const FlowField& f);
+  // The propulsor's loads on the vehicle (§9.5), grid (earth) axes, about `origin`, in
+  // flow units (rho = 1).
+  BodyLoads vehicle_loads(const Vec3& origin) const;
+
   // Whether the rotation rate has settled (always, without a controller).
   bool settled() const { return !rpm_ || rpm_->settled(); }
   Real resistance() const { return resistance_; }  // along the thrust axis, when last measured
@@ -47,6 +60,7 @@ class PropulsionControl {
   std::shared_ptr<BodyForcePropulsor> propulsor_;
   std::optional<RpmController> rpm_;
   Real reference_area_ = 1.0;
+  Vec3 water_ = Vec3::Zero();  // the water's velocity far from the vehicle (the far field's)
   Real resistance_ = 0.0;  // the walls' resistance along the thrust axis when last measured
 };
 

@@ -35,6 +35,9 @@ class RunMotion {
   Real correct(const BodyLoads& loads, Real dt, const BdfCoefficients& c);
   bool coupled(Real change) const { return !body_ || body_->converged(change); }
 
+  // The grids' pose, pivot velocity and angular velocity now (grid axes).
+  RigidMotionSample sample() const { return present(); }
+  const Vec3& pivot() const { return pivot_; }
   // Where a point of the body (of the grid as built) is now.
   Vec3 now(const Vec3& as_built) const;
   // The body origin now: the point a free body's moments are taken about.

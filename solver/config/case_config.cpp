@@ -643,6 +643,9 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
 
   read_time(r, c);
   read_motion(r, c);
+  if (c.propulsor && c.propulsor->rpm_control && c.time.unsteady())
+    r.error("propulsor.rpm_control", "finds a steady self-propulsion point; a dual-time run (time.steps > 0) keeps the "
+                                     "rotation rate (start it from the steady run's restart, which carries the rate found)");
 
   auto& o = c.output;
   o.restart_interval = r.integer_or("output.restart_interval", o.restart_interval,

@@ -22,12 +22,15 @@ BodyForcePropulsor::BodyForcePropulsor(PropulsorSpec spec, std::shared_ptr<const
   if (!(spec_.rps > 0.0)) fail("propulsor '{}': the rotation rate must be positive, got {}", spec_.name, spec_.rps);
   if (spec_.sub_points < 1) fail("propulsor '{}': sub_points must be at least 1", spec_.name);
   spec_.axis.normalize();
+  centre_ = spec_.centre;
+  axis_ = spec_.axis;
 }
 
 void BodyForcePropulsor::set_surge_speed(Real surge_speed) {
   loads_.surge_speed = surge_speed;
-  // Until the flow is measured (option b) the advance speed is option a's.
-  set_advance_speed((1.0 - spec_.wake_fraction) * surge_speed);
+  // Option b keeps the advance speed it measured (only the wake fraction follows); until
+  // the flow is measured the advance speed is option a's.
+  set_advance_speed(inflow_measured_ ? loads_.advance_speed : (1.0 - spec_.wake_fraction) * surge_speed);
 }
 
 void BodyForcePropulsor::set_advance_speed(Real advance_speed) {
@@ -51,6 +54,7 @@ void BodyForcePropulsor::set_rps(Real rps) {
 void BodyForcePropulsor::restore_operating_point(Real rps, Real advance_speed) {
   if (!(rps > 0.0)) fail("propulsor '{}': a restart's rotation rate must be positive, got {}", spec_.name, rps);
   spec_.rps = rps;
+  inflow_measured_ = spec_.inflow_distance.has_value();
   set_advance_speed(advance_speed);
 }
 
@@ -63,7 +67,7 @@ Real BodyForcePropulsor::thrust_slope() const {
 
 void BodyForcePropulsor::measure_inflow(const Grid& g, const std::vector<GhostArray<State>>& Q) {
   if (!spec_.inflow_distance) return;
-  const Vec3 centre = spec_.centre + *spec_.inflow_distance * spec_.axis;
+  const Vec3 centre = centre_ + *spec_.inflow_distance * axis_;
   std::vector<Real> partials(2 * g.blocks.size(), 0.0);  // per block: sum V u_a, sum V
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     if (!g.owns(ib)) continue;
@@ -74,7 +78,7 @@ void BodyForcePropulsor::measure_inflow(const Grid& g, const std::vector<GhostAr
       // The water's velocity relative to the grid (a moving grid's own velocity taken off).
       const Vec3 u = Q[ib](i, j, k).tail<3>() - b.motion.at(b.xc(i, j, k));
       const Real V = b.vol(i, j, k) * s->fraction;
-      partials[2 * ib] += V * (-u.dot(spec_.axis));
+      partials[2 * ib] += V * (-u.dot(axis_));
       partials[2 * ib + 1] += V;
     });
   }
@@ -82,6 +86,7 @@ void BodyForcePropulsor::measure_inflow(const Grid& g, const std::vector<GhostAr
   if (!(total[1] > 0.0))
     fail("propulsor '{}': no cell of the grid lies in its inflow annulus {} ahead of the disk", spec_.name,
          *spec_.inflow_distance);
+  inflow_measured_ = true;
   set_advance_speed(total[0] / total[1]);
 }
 
@@ -94,7 +99,7 @@ void BodyForcePropulsor::update_scales() {
 std::optional<BodyForcePropulsor::CellShare> BodyForcePropulsor::share(const Block& b, int i, int j, int k,
                                                                        const Vec3& centre) const {
   const auto& d = spec_.disk;
-  const Vec3& e = spec_.axis;
+  const Vec3& e = axis_;
   // Cells whose corners all lie farther than the disk reaches are left at once.
   const Vec3 xc = b.xc(i, j, k);
   Real reach = 0.0;
@@ -140,22 +145,26 @@ void BodyForcePropulsor::normalise(const Grid& g) {
   constexpr int kWidth = 3;
   std::vector<Real> partials(kWidth * g.blocks.size(), 0.0);
   const Vec3 w = spin();
+  disk_cells_.clear();
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     if (!g.owns(ib)) continue;
     const Block& b = g.blocks[ib];
+    BlockDiskCells& kept = disk_cells_[&b];
+    kept.size = {b.ni, b.nj, b.nk};
     for_each_cell(b, [&](int i, int j, int k) {
       const auto s = share(b, i, j, k);
       if (!s) return;
       const Real V = b.vol(i, j, k);
       partials[kWidth * ib + 0] += V * s->fraction;
       partials[kWidth * ib + 1] += V * s->axial;
-      partials[kWidth * ib + 2] += V * (b.xc(i, j, k) - spec_.centre).cross(s->tangential).dot(w);
+      partials[kWidth * ib + 2] += V * (b.xc(i, j, k) - centre_).cross(s->tangential).dot(w);
+      kept.cells.push_back({{i, j, k}, s->axial, turn_.transpose() * s->tangential});
     });
   }
   const std::vector<Real> total = sum_in_block_order(g, std::move(partials), kWidth);
   if (!(total[1] > 0.0) || !(total[2] > 0.0))
     fail("propulsor '{}': no cell of the grid lies inside its disk (centre [{}, {}, {}], radii {} to {}, thickness {})",
-         spec_.name, spec_.centre[0], spec_.centre[1], spec_.centre[2], spec_.disk.hub_radius, spec_.disk.tip_radius,
+         spec_.name, centre_[0], centre_[1], centre_[2], spec_.disk.hub_radius, spec_.disk.tip_radius,
          spec_.disk.thickness);
   disk_volume_ = total[0];
   axial_integral_ = total[1];
@@ -164,22 +173,38 @@ void BodyForcePropulsor::normalise(const Grid& g) {
   update_scales();
 }
 
+Vec3 BodyForcePropulsor::cell_force(Real volume, Real axial, const Vec3& tangential) const {
+  // §9.4: f_c = -f_a e_a + f_theta e_theta, the fluid pushed aft and swirled with the blades.
+  return volume * (-axial_scale_ * axial * axis_ + tangential_scale_ * tangential);
+}
+
 void BodyForcePropulsor::add_to_residual(const Block& b, const GhostArray<State>&, GhostArray<State>& R) const {
   if (!normalised_) fail("propulsor '{}': internal: its source was used before normalise()", spec_.name);
+  const auto kept = disk_cells_.find(&b);
+  if (kept != disk_cells_.end() && kept->second.size == Index3{b.ni, b.nj, b.nk}) {
+    for (const DiskCell& c : kept->second.cells) {
+      const auto [i, j, k] = c.cell;
+      R(i, j, k).tail<3>() -= cell_force(b.vol(i, j, k), c.axial, turn_ * c.tangential_as_built);
+    }
+    return;
+  }
   for_each_cell(b, [&](int i, int j, int k) {
     const auto s = share(b, i, j, k);
-    if (!s) return;
-    // §9.4: f_c = -f_a e_a + f_theta e_theta, the fluid pushed aft and swirled with the blades.
-    const Vec3 f = -axial_scale_ * s->axial * spec_.axis + tangential_scale_ * s->tangential;
-    R(i, j, k).tail<3>() -= b.vol(i, j, k) * f;
+    if (s) R(i, j, k).tail<3>() -= cell_force(b.vol(i, j, k), s->axial, s->tangential);
   });
 }
 
-Vec3 BodyForcePropulsor::vehicle_force() const { return loads_.thrust * spec_.axis; }
+void BodyForcePropulsor::place(const RigidPose& pose, const Vec3& pivot) {
+  centre_ = pose.apply(spec_.centre, pivot);
+  turn_ = pose.rotation;
+  axis_ = turn_ * spec_.axis;
+}
+
+Vec3 BodyForcePropulsor::vehicle_force() const { return loads_.thrust * axis_; }
 
 Vec3 BodyForcePropulsor::vehicle_moment(const Vec3& moment_centre) const {
   const Real reaction = spec_.swirl ? loads_.torque : 0.0;
-  return (spec_.centre - moment_centre).cross(vehicle_force()) - reaction * spin();
+  return (centre_ - moment_centre).cross(vehicle_force()) - reaction * spin();
 }
 
 }  // namespace narwhal

@@ -13,9 +13,12 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
 #include "core/types.hpp"
 #include "fields/ghost_array.hpp"
+#include "motion/grid_motion.hpp"
 #include "physics/volume_source.hpp"
 #include "propulsion/hough_ordway.hpp"
 #include "propulsion/open_water.hpp"
@@ -26,8 +29,8 @@ struct Grid;
 
 struct PropulsorSpec {
   std::string name = "propulsor";
-  Vec3 centre = Vec3::Zero();  // hub centre x_p (grid coordinates)
-  Vec3 axis = Vec3::UnitX();   // e_a: the thrust's direction on the vehicle (unit)
+  Vec3 centre = Vec3::Zero();  // hub centre x_p (grid coordinates, as built)
+  Vec3 axis = Vec3::UnitX();   // e_a: the thrust's direction on the vehicle (unit, as built)
   // +1: the blades turn right-handed about e_a (w_p = e_a), -1: left-handed (w_p = -e_a).
   int rotation = 1;
   hough_ordway::Disk disk;
@@ -64,6 +67,7 @@ class BodyForcePropulsor final : public VolumeSource {
 
   // The operating point at the vehicle's surge speed u_B (its speed through the water
   // along e_a): V_A = (1 - w_T) u_B, J = V_A / (n D), T and Q from the curve (§9.1).
+  // Once the inflow has been measured (option b) V_A stays the measured one.
   void set_surge_speed(Real surge_speed);
   // With an inflow_distance: V_A measured in the flow f on g (§9.1 option b; lagged: the
   // loads of the next residuals follow it). Collective over the ranks sharing g. Without
@@ -81,15 +85,26 @@ class BodyForcePropulsor final : public VolumeSource {
   // The discrete renormalisation (§9.4): the constants that make the disk's cells of g
   // carry T and Q exactly (sum_c V_c f_a,c = T, sum_c V_c ((x_c - x_p) x f_c).w_p = Q).
   // Collective over the ranks that share g (a sum in block order: the same on any rank
-  // count); made again whenever the grid or the operating point changes. Multigrid's
-  // coarse levels take the fine level's constants: a source that does not depend on the
-  // state cancels from FAS's coarse equations, whatever they evaluate.
+  // count); the operating point rescales them without a new call. It also keeps the
+  // disk's cells of g's owned blocks and their shares, so that a residual visits only
+  // those: g must outlive the source's use on its blocks (the run's grid does). Other
+  // blocks (multigrid's coarse levels) are searched cell by cell with the fine level's
+  // constants: a source that does not depend on the state cancels from FAS's coarse
+  // equations, whatever they evaluate.
   void normalise(const Grid& g);
   // The disk's volume on g's cells as normalise found it (the cut cells' shares counted).
   Real disk_volume() const { return disk_volume_; }
 
   // R_c -= V_c f_c over the block's cells inside the disk.
   void add_to_residual(const Block& b, const GhostArray<State>& Q, GhostArray<State>& R) const override;
+
+  // The disk carried with a grid in rigid motion (motion/grid_motion.hpp): its centre to
+  // pose.apply(x_p), its axis turned with the pose. The grid's cells keep their shares of
+  // the disk and their volumes under a rigid motion, so the normalisation stands; a grid
+  // that deforms near the disk must be normalised again.
+  void place(const RigidPose& pose, const Vec3& pivot);
+  const Vec3& centre() const { return centre_; }  // x_p now
+  const Vec3& axis() const { return axis_; }      // e_a now
 
   // The loads on the vehicle about x_O (§9.5): F = T e_a, M = (x_p - x_O) x F - Q w_p.
   Vec3 vehicle_force() const;
@@ -103,20 +118,36 @@ class BodyForcePropulsor final : public VolumeSource {
     Real axial = 0.0;
     Vec3 tangential = Vec3::Zero();
   };
-  // Of the disk, or of the annulus like it centred at `centre`.
+  // A disk cell of a block normalise() saw; its tangential share in the axes as built.
+  struct DiskCell {
+    Index3 cell;
+    Real axial = 0.0;
+    Vec3 tangential_as_built = Vec3::Zero();
+  };
+  struct BlockDiskCells {
+    Index3 size;  // the block's cells, checked on use
+    std::vector<DiskCell> cells;
+  };
+  // Of the disk (at its present place), or of the annulus like it centred at `centre`.
   std::optional<CellShare> share(const Block& b, int i, int j, int k, const Vec3& centre) const;
-  std::optional<CellShare> share(const Block& b, int i, int j, int k) const { return share(b, i, j, k, spec_.centre); }
+  std::optional<CellShare> share(const Block& b, int i, int j, int k) const { return share(b, i, j, k, centre_); }
   void set_advance_speed(Real advance_speed);  // J, K_T, K_Q, T, Q and the scales
-  Vec3 spin() const { return static_cast<Real>(spec_.rotation) * spec_.axis; }
+  Vec3 spin() const { return static_cast<Real>(spec_.rotation) * axis_; }
   void update_scales();  // the force per volume per unit shape, from T, Q and the integrals
+  // V_c f_c of a cell with these shares (tangential in the present axes), §9.4.
+  Vec3 cell_force(Real volume, Real axial, const Vec3& tangential) const;
 
   PropulsorSpec spec_;
   std::shared_ptr<const OpenWaterCurve> curve_;
+  Vec3 centre_, axis_;                           // x_p and e_a now (placed with the grid)
+  Mat3 turn_ = Mat3::Identity();                 // from the axes as built to the present ones
+  std::unordered_map<const Block*, BlockDiskCells> disk_cells_;  // of the grid normalised on
   PropulsorLoads loads_;
   Real axial_scale_ = 0.0, tangential_scale_ = 0.0;  // force per volume per unit shape
   Real axial_integral_ = 0.0, torque_integral_ = 0.0;  // sum_c V_c axial, sum_c V_c q_c (normalise)
   Real disk_volume_ = 0.0;
   bool normalised_ = false;
+  bool inflow_measured_ = false;  // option b's V_A known (measured, or a restart's)
 };
 
 }  // namespace narwhal

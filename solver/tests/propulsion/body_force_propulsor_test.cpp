@@ -10,6 +10,7 @@
 #include <regex>
 
 #include "io/table_file.hpp"
+#include "motion/grid_motion.hpp"
 #include "propulsion/body_force_propulsor.hpp"
 #include "propulsion/hough_ordway.hpp"
 #include "propulsion/open_water.hpp"
@@ -157,17 +158,28 @@ std::shared_ptr<const OpenWaterCurve> dtmb4119() {
 std::pair<Vec3, Real> fluid_loads(const Grid& g, const BodyForcePropulsor& p) {
   Vec3 force = Vec3::Zero();
   Real torque = 0.0;
-  const Vec3 spin = static_cast<Real>(p.spec().rotation) * p.spec().axis.normalized();
+  const Vec3 spin = static_cast<Real>(p.spec().rotation) * p.axis();
   for (const Block& b : g.blocks) {
     GhostArray<State> Q(b.ni, b.nj, b.nk, 2, State::Zero()), R(b.ni, b.nj, b.nk, 2, State::Zero());
     p.add_to_residual(b, Q, R);
     for_each_cell(b, [&](int i, int j, int k) {
       const Vec3 f = -R(i, j, k).tail<3>();
       force += f;
-      torque += (b.xc(i, j, k) - p.spec().centre).cross(f).dot(spin);
+      torque += (b.xc(i, j, k) - p.centre()).cross(f).dot(spin);
     });
   }
   return {force, torque};
+}
+
+// The force per cell the source puts into the fluid, block after block.
+std::vector<Vec3> cell_forces(const Grid& g, const BodyForcePropulsor& p) {
+  std::vector<Vec3> f;
+  for (const Block& b : g.blocks) {
+    GhostArray<State> Q(b.ni, b.nj, b.nk, 2, State::Zero()), R(b.ni, b.nj, b.nk, 2, State::Zero());
+    p.add_to_residual(b, Q, R);
+    for_each_cell(b, [&](int i, int j, int k) { f.push_back(-R(i, j, k).tail<3>()); });
+  }
+  return f;
 }
 
 TEST(BodyForcePropulsor, OperatingPointFromTheOpenWaterCurve) {
@@ -200,6 +212,54 @@ TEST(BodyForcePropulsor, FluidTakesThrustAndTorqueExactly) {
   EXPECT_NEAR(force2[0] / p.loads().thrust, 1.0, 1e-10);
   EXPECT_NEAR(torque2 / p.loads().torque, 1.0, 1e-10);
   EXPECT_GT(p.loads().thrust, T);
+}
+
+TEST(BodyForcePropulsor, CarriedWithARigidlyMovedGridItsCellsKeepTheirShares) {
+  // Normalised on the grid as built, then grid and disk moved by one pose: the cells the
+  // normalisation kept give, turned, what a propulsor built at the moved place finds by
+  // searching the moved grid, and the fluid still takes T and Q about the turned axis.
+  Grid g = disk_box(8, 24);
+  BodyForcePropulsor carried(disk_spec(), dtmb4119());
+  carried.set_surge_speed(1.0);
+  carried.normalise(g);
+  RigidPose pose;
+  pose.rotation = (Eigen::AngleAxis<Real>(0.4, Vec3(0.3, -0.5, 0.8).normalized())).toRotationMatrix();
+  pose.displacement = Vec3(0.7, -0.2, 0.35);
+  const Vec3 pivot(0.1, 0.05, -0.1);
+  MovingGrid(g, pivot).place_at(pose);
+  carried.place(pose, pivot);
+  EXPECT_TRUE(carried.axis().isApprox(pose.rotation * disk_spec().axis, 1e-15));
+  EXPECT_TRUE(carried.centre().isApprox(pose.apply(disk_spec().centre, pivot), 1e-15));
+
+  PropulsorSpec moved = disk_spec();
+  moved.centre = carried.centre();
+  moved.axis = carried.axis();
+  BodyForcePropulsor found(moved, dtmb4119());
+  found.set_surge_speed(1.0);
+  found.normalise(g);
+  const std::vector<Vec3> a = cell_forces(g, carried), b = cell_forces(g, found);
+  ASSERT_EQ(a.size(), b.size());
+  Real largest = 0.0, difference = 0.0;
+  for (std::size_t c = 0; c < a.size(); ++c) {
+    largest = std::max(largest, a[c].norm());
+    difference = std::max(difference, (a[c] - b[c]).norm());
+  }
+  EXPECT_GT(largest, 0.0);
+  EXPECT_LT(difference, 1e-12 * largest);
+  const auto [force, torque] = fluid_loads(g, carried);
+  EXPECT_NEAR(force.dot(-carried.axis()) / carried.loads().thrust, 1.0, 1e-10);
+  EXPECT_NEAR(torque / carried.loads().torque, 1.0, 1e-10);
+  EXPECT_TRUE(carried.vehicle_force().isApprox(carried.loads().thrust * carried.axis(), 1e-15));
+}
+
+TEST(BodyForcePropulsor, BlocksItWasNotNormalisedOnAreSearchedCellByCell) {
+  // A copy of the grid (other blocks, as a multigrid level's are) gets the same source.
+  const Grid g = disk_box(8, 24);
+  BodyForcePropulsor p(disk_spec(), dtmb4119());
+  p.set_surge_speed(1.0);
+  p.normalise(g);
+  const Grid copy = g;
+  EXPECT_EQ(cell_forces(g, p), cell_forces(copy, p));
 }
 
 TEST(BodyForcePropulsor, CentredOnASymmetricGridTheSwirlHasNoSideForce) {
@@ -349,6 +409,9 @@ TEST(PropulsorCase, BadInputNamesTheKey) {
   EXPECT_NE(e.find("propulsor.hub_ratio"), std::string::npos) << e;
   e = propulsor_error({"propulsor.rpm=1.0"});
   EXPECT_NE(e.find("unknown key 'propulsor.rpm'"), std::string::npos) << e;
+  e = propulsor_error({"propulsor.rpm_control.interval=5", "time.scheme=\"bdf2\"", "time.step=0.1", "time.steps=3"});
+  EXPECT_NE(e.find("propulsor.rpm_control"), std::string::npos) << e;
+  EXPECT_NE(e.find("dual-time run"), std::string::npos) << e;
 }
 
 }  // namespace
