@@ -8,7 +8,8 @@ RunMotion::RunMotion(const CaseConfig& c, const std::vector<Grid*>& grids) {
   if (c.free_body) {
     const FreeBodySpec& f = *c.free_body;
     body_ = std::make_unique<CoupledBody>(f.mass, f.options,
-                                          body_state_at_release(f.origin, f.velocity, f.angular_velocity), f.coupling);
+                                          body_state_at_release(f.origin, f.velocity, f.angular_velocity), f.coupling,
+                                          f.ballast);
     pivot_ = body_->pivot();
   } else {
     prescribed_ = std::make_unique<PrescribedMotion>(*c.motion);

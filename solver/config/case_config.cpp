@@ -350,6 +350,37 @@ void read_time(const ConfigReader& r, CaseConfig& c) {
     r.error("time.scheme", "a flow-rate-controlled body force (flow.bulk_velocity) is for steady runs");
 }
 
+// The fluid's density and the run's reference length and speed, that turn a free
+// body's SI properties into the flow's units (all 1: nondimensional).
+struct Scales {
+  Real rho = 1.0, length = 1.0, speed = 1.0;
+};
+
+// [[motion.ballast]] (motion/ballast.hpp): the water each tank blows out (or takes in),
+// whose weight the body loses at the tank, as a step or a ramp. `g`: gravity's magnitude
+// in flow units.
+void read_ballast(const ConfigReader& r, const Scales& u, Real g, std::vector<BallastChange>& out) {
+  const std::size_t n = r.array_size("motion.ballast");
+  const bool si = u.rho != 1.0 || u.length != 1.0 || u.speed != 1.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string pre = fmt::format("motion.ballast[{}].", i);
+    BallastChange b;
+    const Real water = r.number(pre + "mass", std::string("the mass of water the tank blows out (> 0) or takes in (< 0)") +
+                                                  (si ? " in kg" : "")) / (u.rho * std::pow(u.length, 3));
+    if (g == 0.0) r.error(pre + "mass", "a change of ballast needs gravity: give motion.gravity");
+    b.weight = water * g;
+    b.tank = r.vec3(pre + "tank", std::string("the tank's centre relative to O, body axes") + (si ? " in m" : "")) /
+             u.length;
+    const Real time = u.length / u.speed;
+    b.start = r.number_or(pre + "start", 0.0, std::string("when the change begins") + (si ? " in s" : ""),
+                          Range::at_least(0.0)) / time;
+    b.duration = r.number_or(pre + "duration", 0.0,
+                             std::string("the ramp's duration (0: a step)") + (si ? " in s" : ""),
+                             Range::at_least(0.0)) / time;
+    out.push_back(b);
+  }
+}
+
 // [motion] type = "free": mass properties, initial state, held degrees of freedom and
 // the coupling's settings (motion/coupled_body.hpp). A case in SI units gives the
 // fluid's density and the run's reference length and speed, and is converted to the
@@ -408,6 +439,7 @@ void read_free_body(const ConfigReader& r, CaseConfig& c) {
   f.velocity = r.vec3_or("motion.velocity", f.velocity, "the initial velocity of O, grid axes") / speed;
   f.angular_velocity = r.vec3_or("motion.angular_velocity", f.angular_velocity,
                                  "the initial angular velocity, grid axes (rad per unit time)") * (length / speed);
+  read_ballast(r, units == "SI" ? Scales{rho, length, speed} : Scales{}, g, f.ballast);
   try {
     RigidBodyEquations check(f.mass, f.options);  // names an unphysical property
   } catch (const Error& e) {

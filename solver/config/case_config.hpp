@@ -119,6 +119,7 @@ struct FreeBodySpec {
   Vec3 origin = Vec3::Zero();            // O in grid coordinates at t = 0 (moments are taken about it)
   Vec3 velocity = Vec3::Zero();          // of O at t = 0, grid axes
   Vec3 angular_velocity = Vec3::Zero();  // at t = 0, grid axes
+  std::vector<BallastChange> ballast;    // [[motion.ballast]]: tanks blown or flooded in time
 };
 
 struct CaseConfig {

@@ -19,8 +19,8 @@ RigidBodyState body_state_at_release(const Vec3& origin, const Vec3& velocity, c
 }
 
 CoupledBody::CoupledBody(const MassProperties& mp, const AccelerationOptions& options, const RigidBodyState& initial,
-                         const CouplingSettings& settings)
-    : body_(mp, options), settings_(settings), pivot_(initial.position()),
+                         const CouplingSettings& settings, std::vector<BallastChange> ballast)
+    : body_(mp, options), settings_(settings), ballast_(std::move(ballast)), pivot_(initial.position()),
       initial_rotation_(rotation_matrix(initial.attitude())), y_n_(initial), estimate_(initial) {
   if (!(settings.relaxation > 0.0 && settings.relaxation <= 1.0))
     fail("coupled body: the relaxation factor must lie in (0, 1], got {}", settings.relaxation);
@@ -49,7 +49,13 @@ RigidBodyStep CoupledBody::rk4_pass(const BodyLoads& f_next) {
     const Vec6 extra = ma * stage_acc_[s];
     stage[s] += BodyLoads{extra.head<3>(), extra.tail<3>()};
   }
-  RigidBodyStep st = advance_rk4_stages(body_, y_n_, time_, step_, stage, nullptr, &stage_acc_);
+  StateDependentLoads ballast = nullptr;
+  if (!ballast_.empty())
+    ballast = [this](const RigidBodyState& at, Real t) {
+      const Vec3 down = rotation_matrix(at.attitude()).transpose() * body_.mass_properties().down;
+      return ballast_loads(ballast_, down, t);
+    };
+  RigidBodyStep st = advance_rk4_stages(body_, y_n_, time_, step_, stage, ballast, &stage_acc_);
   // The flow's kinematics (see the header): the step's displacement and turn from the
   // new velocities in earth axes.
   RigidBodyState& y = st.state;

@@ -41,6 +41,7 @@
 #include <array>
 #include <vector>
 
+#include "motion/ballast.hpp"
 #include "motion/grid_motion.hpp"
 #include "motion/rk4.hpp"
 
@@ -58,8 +59,10 @@ RigidBodyState body_state_at_release(const Vec3& origin, const Vec3& velocity, c
 class CoupledBody {
  public:
   // The body in state `initial` (body_state_at_release: the grid as built is its pose).
+  // `ballast`: changes of weight in time (motion/ballast.hpp), evaluated at every RK4
+  // stage with the hydrostatics.
   CoupledBody(const MassProperties& mp, const AccelerationOptions& options, const RigidBodyState& initial,
-              const CouplingSettings& settings);
+              const CouplingSettings& settings, std::vector<BallastChange> ballast = {});
 
   // The flow's loads on the initial state (earth axes, about O): F^0, which the first
   // step's predictor takes (none given: zero, as on a body released in still fluid).
@@ -98,6 +101,7 @@ class CoupledBody {
 
   RigidBodyEquations body_;
   CouplingSettings settings_;
+  std::vector<BallastChange> ballast_;
   Vec3 pivot_;
   Mat3 initial_rotation_;
   RigidBodyState y_n_, estimate_;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "app/driver.hpp"
+#include "core/error.hpp"
 #include "test_support.hpp"
 
 namespace narwhal {
@@ -240,6 +241,30 @@ TEST(FreeBodyRun, APropelledRunRestartsBitForBit) {
   ASSERT_EQ(run(text, part, all, (part / "restart.h5").string()).status, RunStatus::Completed);
   for (const char* name : {"x", "u", "X"}) EXPECT_EQ(column(whole, name), column(part, name)) << name;
   EXPECT_EQ(csv_column(whole / "propulsor.csv", "thrust"), csv_column(part / "propulsor.csv", "thrust"));
+}
+
+TEST(FreeBodyRun, ANeutralSphereWhoseTankIsBlownRisesWithItsAddedMass) {
+  // A tenth of the displaced water's weight blown at the centre, as a step at t = 0:
+  // the sphere rises with dW / (m + m_a) = 0.1 / 1.5 (gravity along -z).
+  const std::string blown = released_sphere(1.0) + fmt::format(R"(
+[[motion.ballast]]
+mass = {}
+tank = [0.0, 0.0, 0.0]
+)", 0.1 * kVolume);
+  const fs::path dir = test::fresh_temp_dir("narwhal_blown");
+  const RunSummary s = run(blown, dir);
+  ASSERT_EQ(s.status, RunStatus::Completed) << s.message;
+  const std::vector<Real> w = column(dir, "w");
+  const Real acceleration = (w[5] - w[3]) / 0.04, exact = 0.1 / 1.5;
+  // As ASphereFallsWithItsAddedMass: this grid's added mass is 3 % low.
+  EXPECT_NEAR(acceleration, exact, 0.03 * exact);
+  // Without gravity a change of ballast has no weight to change: refused, naming the key.
+  try {
+    (void)parse_case(blown, "sphere.toml", ".", {"motion.gravity=[0.0, 0.0, 0.0]"});
+    ADD_FAILURE() << "a ballast change without gravity was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("motion.ballast[0].mass"), std::string::npos) << e.what();
+  }
 }
 
 TEST(FreeBodyRun, ARestartContinuesBitForBit) {
