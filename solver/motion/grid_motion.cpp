@@ -55,6 +55,16 @@ MovingGrid::MovingGrid(Grid& g, const Vec3& pivot) : g_(g), pivot_(pivot) {
   }
 }
 
+void MovingGrid::reshape(std::vector<GhostArray<Vec3>> reference) {
+  if (reference.size() != x0_.size())
+    fail("MovingGrid: a new shape has {} blocks, the grid {}", reference.size(), x0_.size());
+  for (std::size_t ib = 0; ib < x0_.size(); ++ib)
+    if (reference[ib].raw().size() != x0_[ib].raw().size() || reference[ib].ni() != x0_[ib].ni() ||
+        reference[ib].nj() != x0_[ib].nj() || reference[ib].nk() != x0_[ib].nk())
+      fail("MovingGrid: a new shape's block {} ('{}') has another layout than the grid's", ib, g_.blocks[ib].name);
+  x0_ = std::move(reference);
+}
+
 std::vector<std::array<double, 6>> MovingGrid::reference_extents() const {
   std::vector<std::array<double, 6>> out;
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) out.push_back(node_extent(g_.blocks[ib], x0_[ib]));

@@ -59,6 +59,15 @@ class MovingGrid {
   // starts here (no face speeds: nothing has moved yet).
   void place_at(const RigidPose& pose);
 
+  // A grid that deforms as it moves (control surfaces turned during a manoeuvre): the
+  // nodes as built are replaced by `reference` (the same blocks and layout, ghost nodes
+  // included) from the next move on. That move sweeps the faces from where they are to
+  // the pose applied to the new shape, so the face speeds carry the deformation and the
+  // discrete GCL holds as under rigid motion. The walls' velocity (§5.1) stays the rigid
+  // motion's: the deformation's own speed at a wall is left out.
+  void reshape(std::vector<GhostArray<Vec3>> reference);
+  const std::vector<GhostArray<Vec3>>& reference() const { return x0_; }
+
   const Vec3& pivot() const { return pivot_; }
   // Each block's bounding box as built (min x, y, z, max x, y, z): restarts check a
   // moving grid's blocks there.

@@ -1,11 +1,13 @@
 // Rigid grid motion (NUMERICS §2.4, §1.5): swept volumes, the discrete GCL in every
-// cell, and free-stream preservation on a moving, rotating, perturbed multiblock grid.
+// cell, and free-stream preservation on a moving, rotating, perturbed multiblock grid,
+// also while it deforms (§12.1 item 3's smooth deformation, MovingGrid::reshape).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <memory>
 
 #include "app/dual_time.hpp"
+#include "core/error.hpp"
 #include "config/case_config.hpp"
 #include "implicit/newton.hpp"
 #include "mesh/generators.hpp"
@@ -165,9 +167,69 @@ TEST(GridMotion, DiscreteGclHoldsInEveryCellWithBdf2) {
   EXPECT_LT(worst, 1e-12);
 }
 
+// §12.1 item 3: the nodes as built X deformed to X + 0.05 sin(2 pi X) sin(2 pi Y)
+// sin(2 pi Z) sin(omega t) (1, 1, 1), ghost nodes alike (a function of X: nodes that
+// coincide stay so).
+std::vector<GhostArray<Vec3>> deformed(const std::vector<GhostArray<Vec3>>& as_built, Real t) {
+  std::vector<GhostArray<Vec3>> out = as_built;
+  const Real pi = std::acos(-1.0), a = 0.05 * std::sin(5.0 * t);
+  for (auto& block : out)
+    for (Vec3& x : block.raw())
+      x += a * std::sin(2 * pi * x[0]) * std::sin(2 * pi * x[1]) * std::sin(2 * pi * x[2]) * Vec3::Ones();
+  return out;
+}
+
+TEST(GridMotion, DiscreteGclHoldsInEveryCellWhileTheGridDeformsAsItMoves) {
+  CaseConfig c = uniform_stream_case();
+  Grid g = build_grid(c);
+  MovingGrid moving(g, Vec3(0.5, 0.5, 0.5));
+  const std::vector<GhostArray<Vec3>> as_built = moving.reference();
+  const TimeConfig tc = test::time_config(TimeConfig::Scheme::Bdf2, 0.1, 4);
+  DualTime time(g, tc);
+  FlowField f;
+  f.allocate(g, FlowParams{}, State::Zero());
+  auto volumes_now = [&] {
+    std::vector<Real> v;
+    for (const Block& b : g.blocks) for_each_cell(b, [&](int i, int j, int k) { v.push_back(b.vol(i, j, k)); });
+    return v;
+  };
+  std::vector<Real> v_nm1, v_n = volumes_now();
+  Real worst = 0.0, changed = 0.0;
+  for (int s = 1; s <= 4; ++s) {
+    time.begin_step(g, f);
+    const BdfCoefficients& bdf = time.term().coefficients();
+    moving.reshape(deformed(as_built, s * tc.step));
+    moving.move_to(RigidMotionSample{pose_at(s * tc.step)}, tc.step, bdf);
+    std::size_t n = 0;
+    for (const Block& b : g.blocks)
+      for_each_cell(b, [&](int i, int j, int k) {
+        const Index3 cc{i, j, k};
+        Real flux = 0.0;
+        for (int d = 0; d < 3; ++d) flux += b.kt[d](add(cc, unit(d))) - b.kt[d](cc);
+        const Real dvdt = (bdf.c0 * b.vol(cc) + bdf.c1 * v_n[n] + (s > 1 ? bdf.c2 * v_nm1[n] : 0.0)) / tc.step;
+        worst = std::max(worst, std::abs(dvdt + flux) / b.vol(cc));
+        changed = std::max(changed, std::abs(b.vol(cc) - v_n[n]) / b.vol(cc));
+        ++n;
+      });
+    v_nm1 = v_n;
+    v_n = volumes_now();
+  }
+  EXPECT_GT(changed, 1e-2);  // the cells do change volume: the deformation is seen
+  EXPECT_LT(worst, 1e-12);
+}
+
+TEST(GridMotion, ANewShapeMustKeepTheGridsLayout) {
+  CaseConfig c = uniform_stream_case();
+  Grid g = build_grid(c);
+  MovingGrid moving(g, Vec3::Zero());
+  std::vector<GhostArray<Vec3>> fewer = moving.reference();
+  fewer.pop_back();
+  EXPECT_THROW(moving.reshape(fewer), Error);
+}
+
 // The residual R* of the uniform stream after each move, and the state after the
 // step's iterations: both stay at round-off.
-void expect_free_stream_preserved(int multigrid_levels) {
+void expect_free_stream_preserved(int multigrid_levels, bool deforming = false) {
   CaseConfig c = uniform_stream_case();
   Grid g = build_grid(c);
   FlowParams fp = c.flow;
@@ -193,8 +255,11 @@ void expect_free_stream_preserved(int multigrid_levels) {
   }
   NewtonSolver& top = mg ? mg->finest() : *single;
   const Real inf = std::numeric_limits<Real>::infinity();
+  std::vector<std::vector<GhostArray<Vec3>>> as_built;
+  for (auto& m : moving) as_built.push_back(m->reference());
   for (int s = 1; s <= tc.steps; ++s) {
     time.begin_step(g, f);
+    for (std::size_t l = 0; deforming && l < moving.size(); ++l) moving[l]->reshape(deformed(as_built[l], s * tc.step));
     for (auto& m : moving) m->move_to(RigidMotionSample{pose_at(s * tc.step)}, tc.step, time.term().coefficients());
     EXPECT_LT(top.evaluate_residual().total, 1e-12) << "step " << s;
     for (int m = 0; m < 3; ++m) mg ? mg->cycle_with_cfl(inf) : single->iterate_with_cfl(inf);
@@ -210,6 +275,11 @@ void expect_free_stream_preserved(int multigrid_levels) {
 TEST(GridMotion, FreeStreamIsPreservedOnAMovingRotatingPerturbedMultiblockGrid) { expect_free_stream_preserved(1); }
 
 TEST(GridMotion, FreeStreamIsPreservedOnEveryMultigridLevel) { expect_free_stream_preserved(2); }
+
+TEST(GridMotion, FreeStreamIsPreservedOnADeformingGridAndItsLevels) {
+  expect_free_stream_preserved(1, true);
+  expect_free_stream_preserved(2, true);
+}
 
 }  // namespace
 }  // namespace narwhal
