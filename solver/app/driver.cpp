@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "app/control_surfaces.hpp"
 #include "app/dual_time.hpp"
 #include "app/force_steadiness.hpp"
 #include "app/stall_detector.hpp"
@@ -254,9 +255,9 @@ class SteadyRun {
   // The case's own blocks (the layout of every file), and the blocks the run computes
   // on: cut into pieces until they share out over the ranks (parallel/partition.hpp).
   void prepare_grids() {
-    const int split_for = c_.split_for > 0 ? c_.split_for : comm_.size();
-    pieces_ = split_for > 1;
-    g_ = build_grid(c_, split_for);
+    split_for_ = c_.split_for > 0 ? c_.split_for : comm_.size();
+    pieces_ = split_for_ > 1;
+    g_ = build_grid(c_, split_for_);
     if (pieces_) whole_ = build_grid(c_);
     distribute(g_, comm_.size(), comm_.rank());
     fp_ = flow_params(c_);
@@ -481,8 +482,17 @@ class SteadyRun {
     else
       grids.push_back(&g_);
     if (pieces_) grids.push_back(&whole_);
-    motion_ = std::make_unique<RunMotion>(c_, grids);
+    // The files describe the case's blocks: the whole when the run computes on pieces,
+    // else the finest level (not the coarsest: its nodes sample a curved far field more
+    // coarsely, and a restart's block extents would not match).
+    motion_ = std::make_unique<RunMotion>(c_, grids, pieces_ ? grids.size() - 1 : 0);
+    if (c_.controls) {
+      controls_ = std::make_unique<ControlSurfaces>(c_, split_for_, mg_ ? mg_->levels() : 1, pieces_);
+      if (controls_->turn_to(0.0, *motion_)) walls_moved_pending_ = true;
+    }
     carry_propulsor();
+    motion_->place_at_start();
+    after_walls_moved();
     measure_forces();
     motion_->start(body_loads());
     if (root_ && motion_->free_body())
@@ -496,11 +506,24 @@ class SteadyRun {
   void restore_time_levels() {
     if (!opt_.restart || info_.time_step == 0) return;
     const int n = info_.time_step;
+    if (controls_ && controls_->turn_to(info_.time - c_.time.step, *motion_)) walls_moved_pending_ = true;
     if (motion_) motion_->place_at_previous_level(info_, c_.time.step);
     dual_time_->restore(g_, restored_previous_, n, info_.time);
+    if (controls_ && controls_->turn_to(info_.time, *motion_)) walls_moved_pending_ = true;
     if (motion_) motion_->move_to_present_level(info_, c_.time.step, dual_time_->coefficients_of_step(n));
     carry_propulsor();
+    after_walls_moved();
     restored_previous_ = FlowField{};
+  }
+
+  // The control surfaces turned (the grids deformed about them): what depends on where
+  // the walls are made again on the grid's present nodes (collective: the propulsor's
+  // disk cells).
+  void after_walls_moved() {
+    if (!walls_moved_pending_) return;
+    walls_moved_pending_ = false;
+    if (turb_) turb_->walls_moved(g_);
+    if (propulsion_) propulsion_->walls_moved(g_);
   }
 
   // The propulsor's disk goes where the grid is, its surge speed the motion's (§9.1).
@@ -515,8 +538,10 @@ class SteadyRun {
   void move_grids() {
     if (!motion_) return;
     const Real dt = dual_time_->step_size();
+    if (controls_ && controls_->turn_to(dual_time_->time(), *motion_)) walls_moved_pending_ = true;
     motion_->begin_step(dual_time_->time() - dt, dt, dual_time_->term().coefficients());
     carry_propulsor();
+    after_walls_moved();
     if (turb_) {
       fill_ghosts(g_, field_, fp_);
       turb_->update_viscosity(g_, field_, fp_);
@@ -861,6 +886,9 @@ class SteadyRun {
   std::unique_ptr<FlowRateControl> flow_rate_;
   std::unique_ptr<PropulsionControl> propulsion_;
   std::unique_ptr<PropulsorWriter> propulsor_csv_;
+  std::unique_ptr<ControlSurfaces> controls_;  // [controls]: surfaces turned in time
+  bool walls_moved_pending_ = false;           // the grids reshaped since after_walls_moved
+  int split_for_ = 1;                          // the ranks the run's blocks were cut for
 
   std::unique_ptr<OutputDirectory> out_dir_;  // the root's lock on the output directory
   bool continuing_ = false, own_restart_ = false;

@@ -39,6 +39,9 @@ class PropulsionControl {
   // `pivot`), and the surge speed from the motion, u_B = (v_p - u_water).e_a with v_p
   // the disk centre's velocity (NUMERICS §9.1).
   void follow(const RigidMotionSample& m, const Vec3& pivot);
+  // The grid deformed near the disk (control surfaces turned): its cells found again on
+  // g's present nodes (collective over the ranks sharing g).
+  void walls_moved(const Grid& g) { propulsor_->normalise(g); }
   // After a dual-time sub-iteration: the advance speed from the flow, when the case
   // measures it (collective over the ranks sharing g). The rotation rate stays.
   void after_subiteration(const Grid& g, const FlowField& f);

@@ -4,7 +4,9 @@
 
 namespace narwhal {
 
-RunMotion::RunMotion(const CaseConfig& c, const std::vector<Grid*>& grids) {
+RunMotion::RunMotion(const CaseConfig& c, const std::vector<Grid*>& grids, std::size_t described)
+    : described_(described) {
+  if (described >= grids.size()) fail("internal: RunMotion: grid {} of {} described", described, grids.size());
   if (c.free_body) {
     const FreeBodySpec& f = *c.free_body;
     body_ = std::make_unique<CoupledBody>(f.mass, f.options,
@@ -26,9 +28,12 @@ void RunMotion::move_all(const RigidMotionSample& m, Real dt, const BdfCoefficie
   for (auto& g : moving_) g->move_to(m, dt, c, new_step);
 }
 
-void RunMotion::start(const BodyLoads& loads) {
+void RunMotion::place_at_start() {
   time_ = 0.0;
   for (auto& g : moving_) g->place_at(present().pose);
+}
+
+void RunMotion::start(const BodyLoads& loads) {
   if (body_) body_->observe_initial_loads(loads);
 }
 
@@ -42,6 +47,12 @@ Real RunMotion::correct(const BodyLoads& loads, Real dt, const BdfCoefficients& 
   const Real change = body_->correct(loads);
   move_all(present(), dt, c, false);
   return change;
+}
+
+void RunMotion::reshape_all(std::vector<std::vector<GhostArray<Vec3>>> shapes) {
+  if (shapes.size() != moving_.size())
+    fail("internal: {} grid shapes for the run's {} moving grids", shapes.size(), moving_.size());
+  for (std::size_t i = 0; i < moving_.size(); ++i) moving_[i]->reshape(std::move(shapes[i]));
 }
 
 Vec3 RunMotion::now(const Vec3& as_built) const { return present().pose.apply(as_built, pivot_); }

@@ -18,14 +18,18 @@ namespace narwhal {
 
 class RunMotion {
  public:
-  // `grids`: every grid that moves; the last is the one the run's files describe.
-  RunMotion(const CaseConfig& c, const std::vector<Grid*>& grids);
+  // `grids`: every grid that moves; grids[described] is the one the run's files
+  // describe (the case's blocks: the finest level, or the whole when the run computes
+  // on pieces).
+  RunMotion(const CaseConfig& c, const std::vector<Grid*>& grids, std::size_t described);
 
   bool free_body() const { return body_ != nullptr; }
   const CoupledBody& body() const { return *body_; }  // free_body() only
 
-  // t = 0: the grids at the starting pose; a free body takes the flow's loads on the
-  // initial state (earth axes, about its origin).
+  // t = 0: the grids at the starting pose (and their present shapes).
+  void place_at_start();
+  // Then a free body takes the flow's loads on the initial state (earth axes, about its
+  // origin).
   void start(const BodyLoads& loads);
   // A step's first move, from t^n to t^{n+1} = t^n + dt: a free body predicted.
   void begin_step(Real t_n, Real dt, const BdfCoefficients& c);
@@ -38,6 +42,9 @@ class RunMotion {
   // The grids' pose, pivot velocity and angular velocity now (grid axes).
   RigidMotionSample sample() const { return present(); }
   const Vec3& pivot() const { return pivot_; }
+  // New shapes (nodes as built) for every grid, in the order the constructor took them
+  // (control surfaces turned): the next move carries the grids there.
+  void reshape_all(std::vector<std::vector<GhostArray<Vec3>>> shapes);
   // Where a point of the body (of the grid as built) is now.
   Vec3 now(const Vec3& as_built) const;
   // The body origin now: the point a free body's moments are taken about.
@@ -48,7 +55,7 @@ class RunMotion {
   std::vector<Real> checkpoint() const;
   void place_at_previous_level(const RestartInfo& info, Real dt);
   void move_to_present_level(const RestartInfo& info, Real dt, const BdfCoefficients& c);
-  std::vector<std::array<double, 6>> reference_extents() const { return moving_.back()->reference_extents(); }
+  std::vector<std::array<double, 6>> reference_extents() const { return moving_[described_]->reference_extents(); }
 
  private:
   RigidMotionSample present() const;  // the motion at the time of the state the grids are at
@@ -59,6 +66,7 @@ class RunMotion {
   Vec3 pivot_;
   Real time_ = 0.0;  // t^{n+1} of the step under way (prescribed motion)
   std::vector<std::unique_ptr<MovingGrid>> moving_;
+  std::size_t described_ = 0;  // the grid the run's files describe
 };
 
 }  // namespace narwhal

@@ -350,6 +350,52 @@ void read_time(const ConfigReader& r, CaseConfig& c) {
     r.error("time.scheme", "a flow-rate-controlled body force (flow.bulk_velocity) is for steady runs");
 }
 
+// [controls.<surface>] (control/control_schedule.hpp): times and angles in degrees,
+// piecewise linear. After read_motion: a case that turns its control surfaces without
+// moving otherwise gets a stationary prescribed motion, the grid deforming in place.
+void read_controls(const ConfigReader& r, CaseConfig& c) {
+  struct Surface {
+    const char* key;
+    std::optional<AngleTable> ControlScheduleSpec::*table;
+    const char* appendage;
+  };
+  const Surface surfaces[] = {{"rudder", &ControlScheduleSpec::rudder, "upper_rudder"},
+                              {"stern_planes", &ControlScheduleSpec::stern_planes, "starboard_stern_plane"},
+                              {"sail_planes", &ControlScheduleSpec::sail_planes, "starboard_sail_plane"}};
+  ControlScheduleSpec spec;
+  bool any = false;
+  for (const Surface& s : surfaces) {
+    const std::string pre = std::string("controls.") + s.key + ".";
+    if (!r.has(std::string("controls.") + s.key)) continue;
+    any = true;
+    if (c.grid.type != "appended_suboff")
+      r.error(std::string("controls.") + s.key, "control surfaces turn only on an appended SUBOFF grid "
+                                                "(grid.type = \"appended_suboff\")");
+    const suboff::Configuration geometry = suboff::make_configuration(c.grid.appended.configuration);
+    if (std::none_of(geometry.appendages.begin(), geometry.appendages.end(),
+                     [&](const auto& a) { return a->name() == s.appendage; }))
+      r.error(std::string("controls.") + s.key,
+              fmt::format("configuration '{}' has no {}", c.grid.appended.configuration, s.appendage));
+    const std::vector<Real> times = r.number_list(pre + "times", "the schedule's times (increasing)");
+    const std::vector<Real> angles =
+        r.number_list(pre + "angles", "the angles in degrees at those times", Range::between(-30.0, 30.0));
+    if (angles.size() != times.size())
+      r.error(pre + "angles", fmt::format("expected one angle per time ({}), got {}", times.size(), angles.size()));
+    AngleTable table;
+    for (std::size_t i = 0; i < times.size(); ++i) {
+      if (i > 0 && !(times[i] > times[i - 1]))
+        r.error(pre + "times", fmt::format("the times must increase: entry {} ({}) follows {}", i + 1, times[i],
+                                           times[i - 1]));
+      table.emplace_back(times[i], angles[i] * std::acos(-1.0) / 180.0);
+    }
+    spec.*s.table = table;
+  }
+  if (!any) return;
+  if (!c.time.unsteady()) r.error("controls", "turning control surfaces needs physical time: add a [time] table");
+  if (!c.grid_moves()) c.motion = PrescribedMotionSpec{};  // the grid deforms in place
+  c.controls = spec;
+}
+
 // The fluid's density and the run's reference length and speed, that turn a free
 // body's SI properties into the flow's units (all 1: nondimensional).
 struct Scales {
@@ -675,6 +721,7 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
 
   read_time(r, c);
   read_motion(r, c);
+  read_controls(r, c);
   if (c.propulsor && c.propulsor->rpm_control && c.time.unsteady())
     r.error("propulsor.rpm_control", "finds a steady self-propulsion point; a dual-time run (time.steps > 0) keeps the "
                                      "rotation rate (start it from the steady run's restart, which carries the rate found)");

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "config/propulsor_config.hpp"
+#include "control/control_schedule.hpp"
 #include "implicit/newton.hpp"
 #include "mesh/block.hpp"
 #include "mesh/appended_suboff.hpp"
@@ -136,6 +137,7 @@ struct CaseConfig {
   TimeConfig time;
   std::optional<PrescribedMotionSpec> motion;  // [motion] prescribed: the grid moves (dual-time runs)
   std::optional<FreeBodySpec> free_body;       // [motion] free: it moves as the body's equations say
+  std::optional<ControlScheduleSpec> controls;  // [controls]: control surfaces turned in time (a moving grid)
   bool grid_moves() const { return motion.has_value() || free_body.has_value(); }
   OutputConfig output;
   TurbulenceSettings turbulence;

@@ -211,6 +211,14 @@ std::vector<Real> ConfigReader::numbers(const std::string& key, const std::strin
   return v;
 }
 
+std::vector<Real> ConfigReader::number_list(const std::string& key, const std::string& what, const Range& range) const {
+  const toml::node* n = find(key);
+  if (!n) error(key, "missing required key (expected " + what + ")");
+  const toml::array* a = n->as_array();
+  if (!a || a->empty()) error(key, "expected " + what + " as an array of one or more numbers");
+  return numbers(key, what, a->size(), range);
+}
+
 Vec3 ConfigReader::vec3(const std::string& key, const std::string& what, const Range& range) const {
   const std::vector<Real> v = numbers(key, what, 3, range);
   return Vec3(v[0], v[1], v[2]);

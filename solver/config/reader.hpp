@@ -58,6 +58,8 @@ class ConfigReader {
   // `count` finite numbers, each inside `range`.
   std::vector<Real> numbers(const std::string& key, const std::string& what, std::size_t count,
                             const Range& range = {}) const;
+  // One or more finite numbers, each inside `range`.
+  std::vector<Real> number_list(const std::string& key, const std::string& what, const Range& range = {}) const;
   std::vector<std::string> strings_or(const std::string& key, const std::vector<std::string>& fallback,
                                       const std::string& what) const;
   // Three finite numbers, each inside `range`.

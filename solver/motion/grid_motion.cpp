@@ -49,6 +49,7 @@ MovingGrid::MovingGrid(Grid& g, const Vec3& pivot) : g_(g), pivot_(pivot) {
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
     x0_.push_back(b.x);
+    built_extents_.push_back(node_extent(b));
     previous_x_.push_back(b.x);  // the layout; its values are set by each move
     for (int d = 0; d < 3; ++d) swept_[ib][d] = b.kt[d];  // the face layout, ghosts included
     swept_n_.push_back(swept_[ib]);
@@ -65,11 +66,7 @@ void MovingGrid::reshape(std::vector<GhostArray<Vec3>> reference) {
   x0_ = std::move(reference);
 }
 
-std::vector<std::array<double, 6>> MovingGrid::reference_extents() const {
-  std::vector<std::array<double, 6>> out;
-  for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) out.push_back(node_extent(g_.blocks[ib], x0_[ib]));
-  return out;
-}
+std::vector<std::array<double, 6>> MovingGrid::reference_extents() const { return built_extents_; }
 
 void MovingGrid::place_at(const RigidPose& pose) {
   for (std::size_t ib = 0; ib < g_.blocks.size(); ++ib) {

@@ -69,14 +69,15 @@ class MovingGrid {
   const std::vector<GhostArray<Vec3>>& reference() const { return x0_; }
 
   const Vec3& pivot() const { return pivot_; }
-  // Each block's bounding box as built (min x, y, z, max x, y, z): restarts check a
-  // moving grid's blocks there.
+  // Each block's bounding box as built, before any move or reshape (min x, y, z, max
+  // x, y, z): restarts check a moving grid's blocks there.
   std::vector<std::array<double, 6>> reference_extents() const;
 
  private:
   Grid& g_;
   Vec3 pivot_;
   std::vector<GhostArray<Vec3>> x0_;                   // reference nodes per block
+  std::vector<std::array<double, 6>> built_extents_;   // each block's bounding box as built
   std::vector<GhostArray<Vec3>> previous_x_;           // the nodes before the last move
   std::vector<std::array<GhostArray<Real>, 3>> swept_;   // dV^{n+1} per face, of the step under way
   std::vector<std::array<GhostArray<Real>, 3>> swept_n_;  // dV^n, the step before

@@ -127,6 +127,10 @@ class TurbulenceModel {
   // the transport models add their variables' share to each update (§6.1, §8.6);
   // algebraic models have no variables. nullptr: steady.
   virtual void use_physical_time(const PhysicalTimeTerm* /*term*/) {}
+  // The grid's walls moved relative to its cells (a control surface turned, the grid
+  // deformed about it): what the model keeps of the geometry (wall distances) made again.
+  // A rigid motion of the whole grid needs no call.
+  virtual void walls_moved(const Grid& /*g*/) {}
 };
 
 struct TurbulenceModelInfo {

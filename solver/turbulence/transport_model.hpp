@@ -54,6 +54,7 @@ class TransportModel : public TurbulenceModel {
   std::string describe_largest_residual(const Grid& g, int m, const Communicator& comm) const override;
 
   void use_physical_time(const PhysicalTimeTerm* term) override { time_ = term; }
+  void walls_moved(const Grid& g) override { wall_ = compute_wall_distance(g); }
 
   const WallDistance& walls() const { return wall_; }
 
