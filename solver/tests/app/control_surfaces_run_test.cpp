@@ -7,8 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -50,33 +48,9 @@ RunSummary run(const std::string& text, const fs::path& dir, std::vector<std::st
   return run_case(parse_case(text, "appended.toml", ".", sets), o);
 }
 
-// steps.csv's rows (the header dropped).
-std::vector<std::string> step_rows(const fs::path& dir) {
-  std::ifstream in(dir / "steps.csv");
-  std::vector<std::string> rows;
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) rows.push_back(line);
-  return rows;
-}
-
 // Column `name` of steps.csv.
 std::vector<Real> step_column(const fs::path& dir, const std::string& name) {
-  std::ifstream in(dir / "steps.csv");
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> head;
-  std::stringstream hs(line);
-  for (std::string h; std::getline(hs, h, ',');) head.push_back(h);
-  const auto at = std::find(head.begin(), head.end(), name) - head.begin();
-  std::vector<Real> v;
-  while (std::getline(in, line)) {
-    std::stringstream ls(line);
-    std::string f;
-    for (int i = 0; i <= at; ++i) std::getline(ls, f, ',');
-    v.push_back(std::stod(f));
-  }
-  return v;
+  return test::read_csv((dir / "steps.csv").string()).at(name);
 }
 
 TEST(ControlSurfacesRun, RampedRuddersPushTheSternAsTheirAngleSaysAndRestartBitForBit) {
@@ -104,7 +78,7 @@ TEST(ControlSurfacesRun, RampedRuddersPushTheSternAsTheirAngleSaysAndRestartBitF
   first.emplace_back("time.steps=1");
   ASSERT_EQ(run(ramped_rudders(8.0), part, first).status, RunStatus::Completed);
   ASSERT_EQ(run(ramped_rudders(8.0), part, kRoomyBoxes, (part / "restart.h5").string()).status, RunStatus::Completed);
-  EXPECT_EQ(step_rows(part), step_rows(port));
+  EXPECT_EQ(test::history_rows((part / "steps.csv").string()), test::history_rows((port / "steps.csv").string()));
 }
 
 TEST(ControlSurfacesRun, ASurfaceTheConfigurationLacksOrASteadyRunIsRefusedByKey) {

@@ -85,24 +85,12 @@ origin = [0.5, 0.0, 0.0]
                                           mass, kVolume, inertia, inertia, inertia);
 }
 
-// A CSV file's numeric column `name` (header on the first line).
+// Column `name` of a CSV file the run wrote.
 std::vector<Real> csv_column(const fs::path& file, const std::string& name) {
-  std::ifstream in(file);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> head;
-  std::stringstream hs(line);
-  for (std::string h; std::getline(hs, h, ',');) head.push_back(h);
-  const auto at = std::find(head.begin(), head.end(), name) - head.begin();
-  EXPECT_LT(at, static_cast<std::ptrdiff_t>(head.size())) << file << ": no column " << name;
-  std::vector<Real> v;
-  while (std::getline(in, line)) {
-    std::stringstream ls(line);
-    std::string f;
-    for (int i = 0; i <= at; ++i) std::getline(ls, f, ',');
-    v.push_back(std::stod(f));
-  }
-  return v;
+  const auto columns = test::read_csv(file.string());
+  const auto c = columns.find(name);
+  if (c == columns.end()) ADD_FAILURE() << file << ": no column " << name;
+  return c == columns.end() ? std::vector<Real>{} : c->second;
 }
 
 // motion.csv's column `name`, one value per step.

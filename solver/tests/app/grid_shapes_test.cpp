@@ -71,27 +71,8 @@ TEST(GridShapes, TheCasesAnglesGiveBackEveryGridAndOthersTheTurnedGrids) {
 }
 
 TEST(GridShapes, OnlyAnAppendedSuboffHasControlSurfaces) {
-  const CaseConfig box = parse_case(R"(
-[grid]
-type = "box"
-x = [0.0, 1.0, 2]
-y = [0.0, 1.0, 2]
-z = [0.0, 1.0, 2]
-[flow]
-reynolds = 100.0
-[bc.imin]
-type = "farfield"
-[bc.imax]
-type = "farfield"
-[bc.jmin]
-type = "farfield"
-[bc.jmax]
-type = "farfield"
-[bc.kmin]
-type = "farfield"
-[bc.kmax]
-type = "farfield"
-)", "box.toml", ".");
+  CaseConfig box = parse_case(test::kSmallAppendedCase, "appended.toml", ".");
+  box.grid.type = "box";
   EXPECT_THROW(GridShapes(box, 1, 1, false), Error);
 }
 
