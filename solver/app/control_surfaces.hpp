@@ -1,31 +1,55 @@
 #pragma once
-// A run's control surfaces turned in time ([controls], issue 19): the angles the schedule
-// gives at each time level, and, when they change, the grids a moving run keeps
-// reshaped to them (app/grid_shapes.hpp, MovingGrid::reshape) before they move to the
-// level's pose. What else depends on where the walls are (the turbulence model's wall
-// distances, the propulsor's disk cells) the caller makes again when turn_to says so.
+// A run's control surfaces turned in time (issue 19): their angles for each physical step,
+// from the case's schedules ([controls], control/control_schedule.hpp) and autopilots
+// ([autopilot], control/autopilot.hpp, sampled once per step from the vehicle at the
+// step's start), and, when the angles change, the grids a moving run keeps reshaped to
+// them (app/grid_shapes.hpp, MovingGrid::reshape) before they move to the step's pose.
+// What else depends on where the walls are (the turbulence model's wall distances, the
+// propulsor's disk cells) the caller makes again when a turn says the grids changed.
 #include <memory>
+#include <optional>
 
 #include "app/grid_shapes.hpp"
 #include "app/run_motion.hpp"
+#include "control/autopilot.hpp"
 #include "control/control_schedule.hpp"
 
 namespace narwhal {
+
+// What the autopilots read of a vehicle in rigid motion m (pivot: its origin as built):
+// depth along the grid's +z (NUMERICS §0.1: z_B down; body axes at release
+// grid_axes.hpp's), the Euler angles of its turn since release and their rates.
+VehicleReading read_vehicle(const RigidMotionSample& m);
 
 class ControlSurfaces {
  public:
   // `split_for`, `levels`, `pieces`: the run's grids, as GridShapes takes them.
   ControlSurfaces(const CaseConfig& c, int split_for, int levels, bool pieces);
 
-  // The surfaces to their angles at time t, every grid of `motion` reshaped when they
-  // changed (the next move carries the grids there); returns whether they changed.
-  bool turn_to(Real t, RunMotion& motion);
+  // t = 0: the schedules' angles. Returns whether the grids' shapes changed.
+  bool start(RunMotion& motion);
+  // A step from t^n to t_next = t^n + dt begins with the vehicle at `now`: the angles of
+  // t_next (the schedules' there, the autopilots' from `now`); the grids reshaped when
+  // they changed (the step's move carries them there). Returns whether they did.
+  bool begin_step(Real t_next, Real dt, const VehicleReading& now, RunMotion& motion);
   const suboff::Deflections& angles() const { return angles_; }
+  Real pitch_command() const { return autopilot_ ? autopilot_->pitch_command() : 0.0; }
+
+  // Restarts: the angles of the last two levels and the autopilots' state, as one list;
+  // restore takes it back, then the grids go to level n-1's angles and to level n's.
+  std::vector<Real> checkpoint() const;
+  void restore(const std::vector<Real>& values);
+  bool to_previous_level(RunMotion& motion) { return reshape(previous_, motion); }
+  bool to_present_level(RunMotion& motion) { return reshape(angles_, motion); }
 
  private:
-  ControlSchedule schedule_;
+  bool reshape(const suboff::Deflections& d, RunMotion& motion);  // when the grids' shapes differ
+
+  std::optional<ControlSchedule> schedule_;
+  std::optional<Autopilot> autopilot_;
   GridShapes shapes_;
-  suboff::Deflections angles_;  // those the grids' shapes have
+  suboff::Deflections angles_, previous_;  // of t^n (t^{n+1} once a step began) and the level before
+  suboff::Deflections shaped_;             // those the grids' shapes have
 };
 
 }  // namespace narwhal

@@ -459,6 +459,11 @@ class SteadyRun {
         if (s_.status == RunStatus::Diverged) break;
         if (steps_) steps_->write(dual_time_->step(), dual_time_->time(), done.subiterations, done.drop, forces_);
         if (motion_csv_) write_motion_row(done);
+        if (controls_csv_) {
+          const suboff::Deflections& a = controls_->angles();
+          controls_csv_->write(dual_time_->step(), dual_time_->time(), a.rudder, a.stern_planes, a.sail_planes,
+                               controls_->pitch_command());
+        }
         if (c_.output.restart_interval > 0 && dual_time_->step() % c_.output.restart_interval == 0)
           checkpoint(s_.iterations);
         show_step_progress(done.subiterations, done.drop);
@@ -486,9 +491,12 @@ class SteadyRun {
     // else the finest level (not the coarsest: its nodes sample a curved far field more
     // coarsely, and a restart's block extents would not match).
     motion_ = std::make_unique<RunMotion>(c_, grids, pieces_ ? grids.size() - 1 : 0);
-    if (c_.controls) {
+    if (c_.controls || c_.autopilot) {
       controls_ = std::make_unique<ControlSurfaces>(c_, split_for_, mg_ ? mg_->levels() : 1, pieces_);
-      if (controls_->turn_to(0.0, *motion_)) walls_moved_pending_ = true;
+      if (controls_->start(*motion_)) walls_moved_pending_ = true;
+      if (root_)
+        controls_csv_ = std::make_unique<ControlsWriter>(file("controls.csv"),
+                                                         continuing_ ? std::optional<int>(info_.time_step) : std::nullopt);
     }
     carry_propulsor();
     motion_->place_at_start();
@@ -506,10 +514,13 @@ class SteadyRun {
   void restore_time_levels() {
     if (!opt_.restart || info_.time_step == 0) return;
     const int n = info_.time_step;
-    if (controls_ && controls_->turn_to(info_.time - c_.time.step, *motion_)) walls_moved_pending_ = true;
+    if (controls_) {
+      controls_->restore(info_.control_state);
+      if (controls_->to_previous_level(*motion_)) walls_moved_pending_ = true;
+    }
     if (motion_) motion_->place_at_previous_level(info_, c_.time.step);
     dual_time_->restore(g_, restored_previous_, n, info_.time);
-    if (controls_ && controls_->turn_to(info_.time, *motion_)) walls_moved_pending_ = true;
+    if (controls_ && controls_->to_present_level(*motion_)) walls_moved_pending_ = true;
     if (motion_) motion_->move_to_present_level(info_, c_.time.step, dual_time_->coefficients_of_step(n));
     carry_propulsor();
     after_walls_moved();
@@ -538,7 +549,9 @@ class SteadyRun {
   void move_grids() {
     if (!motion_) return;
     const Real dt = dual_time_->step_size();
-    if (controls_ && controls_->turn_to(dual_time_->time(), *motion_)) walls_moved_pending_ = true;
+    // The surfaces' angles for t^{n+1}, from the vehicle at t^n (before it moves on).
+    if (controls_ && controls_->begin_step(dual_time_->time(), dt, read_vehicle(motion_->sample()), *motion_))
+      walls_moved_pending_ = true;
     motion_->begin_step(dual_time_->time() - dt, dt, dual_time_->term().coefficients());
     carry_propulsor();
     after_walls_moved();
@@ -755,6 +768,7 @@ class SteadyRun {
     r.start_window = start.window;
     r.start_components = start.components;
     if (propulsion_) r.propulsor_state = propulsion_->checkpoint();
+    if (controls_) r.control_state = controls_->checkpoint();
     FlowField& out = assemble();
     const FlowField* previous = dual_time_ ? &assemble_previous_level(r) : nullptr;
     if (root_) write_restart(restart_path_, pieces_ ? whole_ : g_, out, r, c_.text, previous);
@@ -886,7 +900,8 @@ class SteadyRun {
   std::unique_ptr<FlowRateControl> flow_rate_;
   std::unique_ptr<PropulsionControl> propulsion_;
   std::unique_ptr<PropulsorWriter> propulsor_csv_;
-  std::unique_ptr<ControlSurfaces> controls_;  // [controls]: surfaces turned in time
+  std::unique_ptr<ControlSurfaces> controls_;  // [controls], [autopilot]: surfaces turned in time
+  std::unique_ptr<ControlsWriter> controls_csv_;
   bool walls_moved_pending_ = false;           // the grids reshaped since after_walls_moved
   int split_for_ = 1;                          // the ranks the run's blocks were cut for
 

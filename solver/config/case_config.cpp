@@ -350,6 +350,13 @@ void read_time(const ConfigReader& r, CaseConfig& c) {
     r.error("time.scheme", "a flow-rate-controlled body force (flow.bulk_velocity) is for steady runs");
 }
 
+// Whether the case's appended configuration has this appendage.
+bool has_appendage(const CaseConfig& c, const std::string& appendage) {
+  const suboff::Configuration geometry = suboff::make_configuration(c.grid.appended.configuration);
+  return std::any_of(geometry.appendages.begin(), geometry.appendages.end(),
+                     [&](const auto& a) { return a->name() == appendage; });
+}
+
 // [controls.<surface>] (control/control_schedule.hpp): times and angles in degrees,
 // piecewise linear. After read_motion: a case that turns its control surfaces without
 // moving otherwise gets a stationary prescribed motion, the grid deforming in place.
@@ -371,9 +378,7 @@ void read_controls(const ConfigReader& r, CaseConfig& c) {
     if (c.grid.type != "appended_suboff")
       r.error(std::string("controls.") + s.key, "control surfaces turn only on an appended SUBOFF grid "
                                                 "(grid.type = \"appended_suboff\")");
-    const suboff::Configuration geometry = suboff::make_configuration(c.grid.appended.configuration);
-    if (std::none_of(geometry.appendages.begin(), geometry.appendages.end(),
-                     [&](const auto& a) { return a->name() == s.appendage; }))
+    if (!has_appendage(c, s.appendage))
       r.error(std::string("controls.") + s.key,
               fmt::format("configuration '{}' has no {}", c.grid.appended.configuration, s.appendage));
     const std::vector<Real> times = r.number_list(pre + "times", "the schedule's times (increasing)");
@@ -394,6 +399,79 @@ void read_controls(const ConfigReader& r, CaseConfig& c) {
   if (!c.time.unsteady()) r.error("controls", "turning control surfaces needs physical time: add a [time] table");
   if (!c.grid_moves()) c.motion = PrescribedMotionSpec{};  // the grid deforms in place
   c.controls = spec;
+}
+
+// [autopilot] (control/autopilot.hpp): commands in degrees and body lengths, each loop's
+// gains in [autopilot.<loop>], one limit and rate for every surface. After read_controls.
+void read_autopilot(const ConfigReader& r, CaseConfig& c) {
+  if (!r.has("autopilot")) return;
+  if (c.grid.type != "appended_suboff")
+    r.error("autopilot", "the autopilots drive an appended SUBOFF's control surfaces (grid.type = \"appended_suboff\")");
+  if (!c.time.unsteady()) r.error("autopilot", "the autopilots act in physical time: add a [time] table");
+  const Real degree = std::acos(-1.0) / 180.0;
+  AutopilotSettings a;
+  auto angle = [&](const std::string& key, const std::string& what) -> std::optional<Real> {
+    if (!r.has(key)) return std::nullopt;
+    return r.number(key, what, Range::between(-180.0, 180.0)) * degree;
+  };
+  a.heading = angle("autopilot.heading", "the heading to hold, degrees from the release's (> 0: to starboard)");
+  a.pitch = angle("autopilot.pitch", "the pitch to hold, degrees (> 0: nose up)");
+  if (r.has("autopilot.depth_change"))
+    a.depth_change = r.number("autopilot.depth_change", "how much deeper to go, body lengths (> 0: down)");
+  if (a.depth_change && a.pitch)
+    r.error("autopilot.pitch", "a depth change sets the pitch command itself: give one of depth_change and pitch");
+  const Real limit = r.number_or("autopilot.surface_limit", 25.0, "every surface's largest angle, degrees",
+                                 Range::between(0.0, 30.0)) * degree;
+  const Real rate = r.number_or("autopilot.surface_rate", 1.0e3, "every surface's largest rate, degrees per unit time",
+                                Range::positive()) * degree;
+  const Real steepest = r.number_or("autopilot.max_pitch", 15.0, "the depth loop's steepest pitch command, degrees",
+                                    Range::between(0.0, 45.0)) * degree;
+  auto loop = [&](const std::string& name, Real largest, Real fastest) {
+    const std::string pre = "autopilot." + name + ".";
+    PidSettings p;
+    p.kp = r.number(pre + "kp", "the proportional gain (>= 0)", Range::at_least(0.0));
+    p.ki = r.number_or(pre + "ki", 0.0, "the integral gain (>= 0)", Range::at_least(0.0));
+    p.kd = r.number_or(pre + "kd", 0.0, "the derivative gain (>= 0)", Range::at_least(0.0));
+    p.min_output = -largest;
+    p.max_output = largest;
+    p.max_rate = fastest;
+    return p;
+  };
+  struct Need {
+    bool active;
+    const char* key;
+    const char* appendage;
+    const char* surface;
+  };
+  const Need needs[] = {{a.heading.has_value(), "autopilot.heading", "upper_rudder", "rudder"},
+                        {a.pitch || a.depth_change, a.pitch ? "autopilot.pitch" : "autopilot.depth_change",
+                         "starboard_stern_plane", "stern_planes"},
+                        {r.has("autopilot.sail_plane_loop"), "autopilot.sail_plane_loop", "starboard_sail_plane",
+                         "sail_planes"}};
+  for (const Need& n : needs) {
+    if (!n.active) continue;
+    if (!has_appendage(c, n.appendage))
+      r.error(n.key, fmt::format("configuration '{}' has no {}", c.grid.appended.configuration, n.appendage));
+    if (r.has(std::string("controls.") + n.surface))
+      r.error(n.key, fmt::format("the {} are scheduled by [controls.{}]: one of the two drives them", n.surface,
+                                 n.surface));
+  }
+  if (a.heading) a.heading_loop = loop("heading_loop", limit, rate);
+  if (a.pitch || a.depth_change) a.pitch_loop = loop("pitch_loop", limit, rate);
+  if (a.depth_change) {
+    const Real unlimited = std::numeric_limits<Real>::infinity();
+    a.depth_loop = loop("depth_loop", steepest, unlimited);
+    if (r.has("autopilot.sail_plane_loop")) a.sail_plane_loop = loop("sail_plane_loop", limit, rate);
+  } else if (r.has("autopilot.sail_plane_loop")) {
+    r.error("autopilot.sail_plane_loop", "the sail planes hold depth: give autopilot.depth_change");
+  }
+  if (!a.heading && !a.pitch && !a.depth_change)
+    r.error("autopilot", "no command: give heading, pitch or depth_change");
+  if (c.free_body && c.free_body->mass.weight > 0.0 && (c.free_body->mass.down - Vec3::UnitZ()).norm() > 1e-12)
+    r.error("motion.gravity", "the autopilots take depth along the grid's +z (z_B down, NUMERICS §0.1): gravity must "
+                              "point along +z");
+  if (!c.grid_moves()) c.motion = PrescribedMotionSpec{};  // the grid deforms in place
+  c.autopilot = a;
 }
 
 // The fluid's density and the run's reference length and speed, that turn a free
@@ -722,6 +800,7 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   read_time(r, c);
   read_motion(r, c);
   read_controls(r, c);
+  read_autopilot(r, c);
   if (c.propulsor && c.propulsor->rpm_control && c.time.unsteady())
     r.error("propulsor.rpm_control", "finds a steady self-propulsion point; a dual-time run (time.steps > 0) keeps the "
                                      "rotation rate (start it from the steady run's restart, which carries the rate found)");

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "config/propulsor_config.hpp"
+#include "control/autopilot.hpp"
 #include "control/control_schedule.hpp"
 #include "implicit/newton.hpp"
 #include "mesh/block.hpp"
@@ -138,6 +139,7 @@ struct CaseConfig {
   std::optional<PrescribedMotionSpec> motion;  // [motion] prescribed: the grid moves (dual-time runs)
   std::optional<FreeBodySpec> free_body;       // [motion] free: it moves as the body's equations say
   std::optional<ControlScheduleSpec> controls;  // [controls]: control surfaces turned in time (a moving grid)
+  std::optional<AutopilotSettings> autopilot;   // [autopilot]: depth, pitch and heading held by the surfaces
   bool grid_moves() const { return motion.has_value() || free_body.has_value(); }
   OutputConfig output;
   TurbulenceSettings turbulence;

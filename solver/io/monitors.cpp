@@ -100,6 +100,15 @@ void PropulsorWriter::write(int iteration, Real rps, Real advance_speed, Real ad
                            advance_ratio, thrust, torque, resistance));
 }
 
+ControlsWriter::ControlsWriter(const std::string& path, std::optional<int> resume_after)
+    : file_(path, "step,time,rudder_deg,stern_planes_deg,sail_planes_deg,pitch_command_deg\n", resume_after) {}
+
+void ControlsWriter::write(int step, Real time, Real rudder, Real stern_planes, Real sail_planes, Real pitch_command) {
+  constexpr Real deg = 180.0 / 3.14159265358979323846;
+  file_.append(fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", step, time, rudder * deg + 0.0,
+                           stern_planes * deg + 0.0, sail_planes * deg + 0.0, pitch_command * deg + 0.0));
+}
+
 StepsWriter::StepsWriter(const std::string& path, const std::vector<std::string>& groups,
                          std::optional<int> resume_after)
     : groups_(groups), file_(path, "step,time,subiterations,drop" + force_header(groups) + "\n", resume_after) {}

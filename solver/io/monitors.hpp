@@ -89,6 +89,18 @@ class MotionWriter {
   AppendedCsv file_;
 };
 
+// controls.csv of a run that turns its control surfaces (app/control_surfaces.hpp): one row
+// per physical step, the angles it ended with (degrees, suboff_geometry.hpp's signs) and
+// the autopilots' pitch command (degrees; 0 without one).
+class ControlsWriter {
+ public:
+  ControlsWriter(const std::string& path, std::optional<int> resume_after);
+  void write(int step, Real time, Real rudder, Real stern_planes, Real sail_planes, Real pitch_command);
+
+ private:
+  AppendedCsv file_;
+};
+
 // The first line of history.csv for these wall groups and turbulence variables.
 std::string history_header(const std::vector<std::string>& groups, const std::vector<std::string>& turbulence);
 

@@ -252,6 +252,8 @@ void write_hdf5(const std::string& path, const Grid& g, const FlowField& f, cons
     }
     if (!info.propulsor_state.empty())
       write_dataset(path, file, "propulsor_state", {info.propulsor_state.size()}, info.propulsor_state.data());
+    if (!info.control_state.empty())
+      write_dataset(path, file, "control_state", {info.control_state.size()}, info.control_state.data());
     if (!info.body_state.empty())  // a free body's state (motion/coupled_body.hpp)
       write_dataset(path, file, "body_state", {info.body_state.size()}, info.body_state.data());
     write_scalar_attr(path, file, "turbulence_starting", H5T_NATIVE_INT, info.turbulence_starting ? 1 : 0);
@@ -404,6 +406,10 @@ RestartInfo read_restart(const std::string& path, const Grid& g, FlowField& f, c
   if (H5Lexists(file, "propulsor_state", H5P_DEFAULT) > 0) {
     const hsize_t n = dataset_length(path, file, "propulsor_state");
     read_dataset(path, file, "propulsor_state", {n}, info.propulsor_state);
+  }
+  if (H5Lexists(file, "control_state", H5P_DEFAULT) > 0) {
+    const hsize_t n = dataset_length(path, file, "control_state");
+    read_dataset(path, file, "control_state", {n}, info.control_state);
   }
   if (H5Lexists(file, "body_state", H5P_DEFAULT) > 0) {
     const hsize_t n = dataset_length(path, file, "body_state");

@@ -67,6 +67,9 @@ struct RestartInfo {
   // A body-force propulsor's operating point and its rpm controller (app/propulsion_control.hpp),
   // flattened; empty: none (also for older restarts).
   std::vector<Real> propulsor_state{};
+  // The control surfaces' angles of the last two levels and the autopilots' state
+  // (app/control_surfaces.hpp); empty: none.
+  std::vector<Real> control_state{};
 };
 
 // Writes atomically (temporary file + rename) so a crash never leaves a torn restart;

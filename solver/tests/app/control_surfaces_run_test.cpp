@@ -1,15 +1,18 @@
-// Control surfaces turned during a run ([controls], app/control_surfaces.hpp): the small
+// Control surfaces turned during a run ([controls], [autopilot], app/control_surfaces.hpp).
+// The vehicle reading the autopilots take. A schedule: the small
 // appended SUBOFF's rudders ramped from 0 to +-8 degrees over two steps, the grid
 // deforming in place (a stationary prescribed motion). The rudders' side force follows
 // the angle's sign (trailing edges to port push them to starboard), the opposite ramp
 // gives the turned grid's forces, and a restart in the middle of the ramp continues bit
-// for bit (the grids reshaped to both time levels).
+// for bit (the grids reshaped to both time levels). An autopilot: a heading loop answers
+// a prescribed yaw as its PID says, and a restart continues it bit for bit.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "app/control_surfaces.hpp"
 #include "app/driver.hpp"
 #include "core/error.hpp"
 #include "test_support.hpp"
@@ -81,6 +84,86 @@ TEST(ControlSurfacesRun, RampedRuddersPushTheSternAsTheirAngleSaysAndRestartBitF
   EXPECT_EQ(test::history_rows((part / "steps.csv").string()), test::history_rows((port / "steps.csv").string()));
 }
 
+TEST(ControlSurfaces, TheVehicleReadingIsTheTurnSinceReleaseAndItsEulerRates) {
+  // A body turned by yaw psi, pitch theta, roll phi from its axes at release (grid_axes:
+  // B0 = diag(-1, -1, 1)), with Euler rates given: the reading gives them back.
+  const Real phi = 0.1, theta = 0.3, psi = -0.7, dphi = 0.2, dtheta = -0.4, dpsi = 0.9;
+  const Mat3 turn = (Eigen::AngleAxis<Real>(psi, Vec3::UnitZ()) * Eigen::AngleAxis<Real>(theta, Vec3::UnitY()) *
+                     Eigen::AngleAxis<Real>(phi, Vec3::UnitX())).toRotationMatrix();
+  const Mat3 b0 = Vec3(-1.0, -1.0, 1.0).asDiagonal();
+  RigidMotionSample m;
+  m.pose.rotation = b0 * turn * b0.transpose();
+  m.pose.displacement = Vec3(0.3, -0.2, 1.25);
+  m.velocity = Vec3(-1.0, 0.1, 0.05);
+  // Body rates from the Euler rates (NUMERICS §11.4 inverted), then to grid axes.
+  const Vec3 pqr(dphi - dpsi * std::sin(theta), dtheta * std::cos(phi) + dpsi * std::cos(theta) * std::sin(phi),
+                 -dtheta * std::sin(phi) + dpsi * std::cos(theta) * std::cos(phi));
+  m.angular_velocity = m.pose.rotation * b0 * pqr;
+  const VehicleReading r = read_vehicle(m);
+  EXPECT_NEAR(r.pitch, theta, 1e-14);
+  EXPECT_NEAR(r.heading, psi, 1e-14);
+  EXPECT_NEAR(r.pitch_rate, dtheta, 1e-14);
+  EXPECT_NEAR(r.heading_rate, dpsi, 1e-14);
+  EXPECT_EQ(r.depth, 1.25);  // z_B down: the grid's +z
+  EXPECT_EQ(r.depth_rate, 0.05);
+}
+
+// The small appended grid yawing to and fro (a prescribed oscillation of 2 degrees), its
+// rudders under a heading autopilot holding 0.
+std::string yawing_under_autopilot() {
+  return std::string(test::kSmallAppendedCase) + R"(
+[solver]
+multigrid_levels = 2
+[time]
+scheme = "bdf2"
+step = 0.01
+steps = 2
+subiteration_drop = 1e-2
+min_subiterations = 2
+max_subiterations = 5
+pseudo_cfl = 5.0
+[motion]
+type = "prescribed"
+pivot = [0.5, 0.0, 0.0]
+[[motion.oscillation]]
+dof = "yaw"
+amplitude = 2.0
+angular_frequency = 40.0
+phase = 30.0
+[autopilot]
+heading = 0.0
+[autopilot.heading_loop]
+kp = 1.5
+ki = 20.0
+)";
+}
+
+TEST(ControlSurfacesRun, AHeadingAutopilotTurnsTheRuddersAgainstTheYawAndRestartsBitForBit) {
+  const fs::path whole = test::fresh_temp_dir("narwhal_pilot_whole"), part = test::fresh_temp_dir("narwhal_pilot_part");
+  ASSERT_EQ(run(yawing_under_autopilot(), whole).status, RunStatus::Completed);
+  // Each step's rudder angle is the loop's answer to the heading at the step's start,
+  // psi(t^n) = A sin(w t^n + phase): -(kp e + ki sum e dt) with e = 0 - psi (no derivative
+  // gain; far inside the limits).
+  const auto rows = test::read_csv((whole / "controls.csv").string());
+  const std::vector<Real>& rudder = rows.at("rudder_deg");
+  ASSERT_EQ(rudder.size(), 2u);
+  const Real degree = 3.14159265358979323846 / 180.0, dt = 0.01;
+  Real integral = 0.0;
+  for (std::size_t n = 0; n < 2; ++n) {
+    const Real psi = 2.0 * degree * std::sin(40.0 * dt * static_cast<Real>(n) + 30.0 * degree);
+    integral += -psi * dt;
+    EXPECT_NEAR(rudder[n] * degree, -(1.5 * -psi + 20.0 * integral), 1e-12) << "step " << n + 1;
+  }
+  EXPECT_GT(rudder[0], 0.0);  // yawed to starboard: trailing edges to port
+  std::vector<std::string> first = kRoomyBoxes;
+  first.emplace_back("time.steps=1");
+  ASSERT_EQ(run(yawing_under_autopilot(), part, first).status, RunStatus::Completed);
+  ASSERT_EQ(run(yawing_under_autopilot(), part, kRoomyBoxes, (part / "restart.h5").string()).status,
+            RunStatus::Completed);
+  EXPECT_EQ(test::history_rows((part / "steps.csv").string()), test::history_rows((whole / "steps.csv").string()));
+  EXPECT_EQ(test::history_rows((part / "controls.csv").string()), test::history_rows((whole / "controls.csv").string()));
+}
+
 TEST(ControlSurfacesRun, ASurfaceTheConfigurationLacksOrASteadyRunIsRefusedByKey) {
   auto error_of = [](const std::string& text, const std::vector<std::string>& sets) {
     try {
@@ -98,6 +181,14 @@ TEST(ControlSurfacesRun, ASurfaceTheConfigurationLacksOrASteadyRunIsRefusedByKey
   EXPECT_NE(e.find("controls.rudder.times"), std::string::npos) << e;
   e = error_of(ramped_rudders(8.0), {"controls.rudder.angles=[0.0, 1.0, 2.0]"});
   EXPECT_NE(e.find("controls.rudder.angles"), std::string::npos) << e;
+  e = error_of(yawing_under_autopilot(), {"grid.box_half_width=4", "controls.rudder.times=[0.0]",
+                                          "controls.rudder.angles=[1.0]"});
+  EXPECT_NE(e.find("autopilot.heading"), std::string::npos) << e;
+  EXPECT_NE(e.find("one of the two drives them"), std::string::npos) << e;
+  e = error_of(yawing_under_autopilot(), {"autopilot.depth_change=1.0", "autopilot.pitch=2.0"});
+  EXPECT_NE(e.find("autopilot.pitch"), std::string::npos) << e;
+  e = error_of(yawing_under_autopilot(), {"autopilot.heading_loop.kp=-1.0"});
+  EXPECT_NE(e.find("autopilot.heading_loop.kp"), std::string::npos) << e;
   e = error_of(ramped_rudders(8.0, false), {});
   EXPECT_NE(e.find("'controls'"), std::string::npos) << e;
   EXPECT_NE(e.find("physical time"), std::string::npos) << e;
