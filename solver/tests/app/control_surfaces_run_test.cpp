@@ -22,14 +22,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string ramped_rudders(Real degrees, bool in_time = true) {
-  return std::string(test::kSmallAppendedCase) + fmt::format(R"(
+// Two BDF2 steps of 0.01 on the small appended grid, 2 to 5 sub-iterations each.
+const char* kTwoSteps = R"(
 [solver]
 multigrid_levels = 2
-[controls.rudder]
-times = [0.0, 0.02]
-angles = [0.0, {}]
-)", degrees) + (in_time ? R"(
 [time]
 scheme = "bdf2"
 step = 0.01
@@ -38,7 +34,14 @@ subiteration_drop = 1e-2
 min_subiterations = 2
 max_subiterations = 5
 pseudo_cfl = 5.0
-)" : "");
+)";
+
+std::string ramped_rudders(Real degrees, bool in_time = true) {
+  return std::string(test::kSmallAppendedCase) + fmt::format(R"(
+[controls.rudder]
+times = [0.0, 0.02]
+angles = [0.0, {}]
+)", degrees) + (in_time ? kTwoSteps : "\n[solver]\nmultigrid_levels = 2\n");
 }
 
 const std::vector<std::string> kRoomyBoxes = {"grid.box_half_width=4"};
@@ -111,17 +114,7 @@ TEST(ControlSurfaces, TheVehicleReadingIsTheTurnSinceReleaseAndItsEulerRates) {
 // The small appended grid yawing to and fro (a prescribed oscillation of 2 degrees), its
 // rudders under a heading autopilot holding 0.
 std::string yawing_under_autopilot() {
-  return std::string(test::kSmallAppendedCase) + R"(
-[solver]
-multigrid_levels = 2
-[time]
-scheme = "bdf2"
-step = 0.01
-steps = 2
-subiteration_drop = 1e-2
-min_subiterations = 2
-max_subiterations = 5
-pseudo_cfl = 5.0
+  return std::string(test::kSmallAppendedCase) + kTwoSteps + R"(
 [motion]
 type = "prescribed"
 pivot = [0.5, 0.0, 0.0]
