@@ -70,7 +70,8 @@ const char* viscous_name(ViscousForm v) {
 // run.json: what the harness reads of a run. Non-finite numbers become null (valid JSON).
 void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g, const RunSummary& s,
                     const IterationNorms& last, const std::map<std::string, ForceCoefficients>& forces,
-                    const Vec3& body_force, int ranks, const PropulsionControl* propulsion) {
+                    const Vec3& body_force, int ranks, const PropulsionControl* propulsion,
+                    const CoupledBody* body) {
   nlohmann::ordered_json j;
   j["case"] = c.file;
   j["title"] = c.title;
@@ -122,6 +123,8 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
                    {"force_window", c.solver.force_window}};
   j["body_force"] = {body_force[0], body_force[1], body_force[2]};
   if (propulsion) j["propulsor"] = propulsion->report(c.output.moment_centre);
+  if (body && c.free_body->trim.any())  // flow units (rho = 1): weight, and its first moment along x_B
+    j["trim"] = {{"weight", body->trim().weight}, {"first_moment", body->trim().first_moment}};
   nlohmann::ordered_json f = nlohmann::ordered_json::object();
   auto coefficients = [](const Vec3& force, const Vec3& moment) {
     return nlohmann::ordered_json{{"cfx", force[0]},  {"cfy", force[1]},  {"cfz", force[2]},
@@ -812,7 +815,8 @@ class SteadyRun {
     comm_.barrier();
     if (!root_) return;
     write_run_json(file("run.json"), c_, g_, s_, monitors_.last, forces_,
-                   flow_rate_ ? flow_rate_->force() : c_.body_force, comm_.size(), propulsion_.get());
+                   flow_rate_ ? flow_rate_->force() : c_.body_force, comm_.size(), propulsion_.get(),
+                   motion_ && motion_->free_body() ? &motion_->body() : nullptr);
     std::string drops = fmt::format("p {:.1e}, u {:.1e}, v {:.1e}, w {:.1e}", s_.equation_drops[0],
                                     s_.equation_drops[1], s_.equation_drops[2], s_.equation_drops[3]);
     for (const auto& [name, d] : s_.turbulence_drops) drops += fmt::format(", {} {:.1e}", name, d);

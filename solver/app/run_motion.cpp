@@ -11,7 +11,7 @@ RunMotion::RunMotion(const CaseConfig& c, const std::vector<Grid*>& grids, std::
     const FreeBodySpec& f = *c.free_body;
     body_ = std::make_unique<CoupledBody>(f.mass, f.options,
                                           body_state_at_release(f.origin, f.velocity, f.angular_velocity), f.coupling,
-                                          f.ballast);
+                                          f.ballast, f.trim);
     pivot_ = body_->pivot();
   } else {
     prescribed_ = std::make_unique<PrescribedMotion>(*c.motion);

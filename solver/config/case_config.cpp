@@ -564,6 +564,12 @@ void read_free_body(const ConfigReader& r, CaseConfig& c) {
   f.angular_velocity = r.vec3_or("motion.angular_velocity", f.angular_velocity,
                                  "the initial angular velocity, grid axes (rad per unit time)") * (length / speed);
   read_ballast(r, units == "SI" ? Scales{rho, length, speed} : Scales{}, g, f.ballast);
+  for (const std::string& n : r.strings_or("motion.trim", {}, "the degrees of freedom trimmed at release (heave, pitch)")) {
+    if (n == "heave") f.trim.heave = true;
+    else if (n == "pitch") f.trim.pitch = true;
+    else r.error("motion.trim", "expected some of heave, pitch (trimmed by weights); got '" + n + "'");
+  }
+  if (f.trim.any() && g == 0.0) r.error("motion.trim", "trimming by weights needs gravity: give motion.gravity");
   try {
     RigidBodyEquations check(f.mass, f.options);  // names an unphysical property
   } catch (const Error& e) {

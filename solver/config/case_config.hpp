@@ -122,6 +122,7 @@ struct FreeBodySpec {
   Vec3 velocity = Vec3::Zero();          // of O at t = 0, grid axes
   Vec3 angular_velocity = Vec3::Zero();  // at t = 0, grid axes
   std::vector<BallastChange> ballast;    // [[motion.ballast]]: tanks blown or flooded in time
+  TrimSpec trim;                         // motion.trim: the loads at release balanced by trim weights
 };
 
 struct CaseConfig {

@@ -18,13 +18,18 @@ RigidBodyState body_state_at_release(const Vec3& origin, const Vec3& velocity, c
   return s;
 }
 
+BodyLoads TrimWeights::loads(const Vec3& down_body) const {
+  return {weight * down_body, Vec3(first_moment, 0.0, 0.0).cross(down_body)};
+}
+
 CoupledBody::CoupledBody(const MassProperties& mp, const AccelerationOptions& options, const RigidBodyState& initial,
-                         const CouplingSettings& settings, std::vector<BallastChange> ballast)
-    : body_(mp, options), settings_(settings), ballast_(std::move(ballast)), pivot_(initial.position()),
+                         const CouplingSettings& settings, std::vector<BallastChange> ballast, TrimSpec trim)
+    : body_(mp, options), settings_(settings), ballast_(std::move(ballast)), trim_(trim), pivot_(initial.position()),
       initial_rotation_(rotation_matrix(initial.attitude())), y_n_(initial), estimate_(initial) {
   if (!(settings.relaxation > 0.0 && settings.relaxation <= 1.0))
     fail("coupled body: the relaxation factor must lie in (0, 1], got {}", settings.relaxation);
   if (!(settings.tolerance > 0.0)) fail("coupled body: the coupling tolerance must be positive, got {}", settings.tolerance);
+  if (trim.any() && !(mp.weight > 0.0)) fail("coupled body: trimming by weights needs gravity");
 }
 
 BodyLoads CoupledBody::to_body_axes(const BodyLoads& earth) const {
@@ -32,7 +37,29 @@ BodyLoads CoupledBody::to_body_axes(const BodyLoads& earth) const {
   return {rt * earth.force, rt * earth.moment};
 }
 
-void CoupledBody::observe_initial_loads(const BodyLoads& flow_earth) { f_latest_ = to_body_axes(flow_earth); }
+Vec3 CoupledBody::down_body(const RigidBodyState& at) const {
+  return rotation_matrix(at.attitude()).transpose() * body_.mass_properties().down;
+}
+
+void CoupledBody::observe_initial_loads(const BodyLoads& flow_earth) {
+  f_latest_ = to_body_axes(flow_earth);
+  if (steps_ == 0) find_trim();
+}
+
+void CoupledBody::find_trim() {
+  // With gravity along d (body axes), a weight dW at O adds dW d_z to Z and a first moment
+  // s along x_B adds (s e_x x d)_y = -s d_z to M: each cancels its own component of the
+  // loads at release, which are the flow's and the hydrostatics' (TrimSpec).
+  trim_weights_ = {};
+  if (!trim_.any()) return;
+  const Vec3 d = down_body(estimate_);
+  if (std::abs(d.z()) < 0.5)
+    fail("coupled body: trimming by weights needs gravity within 60 degrees of z_B at release, it is {} degrees off",
+         std::acos(std::clamp(std::abs(d.z()), 0.0, 1.0)) * 180.0 / std::numbers::pi);
+  const BodyLoads at_release = f_latest_ + body_.hydrostatic_loads(estimate_);
+  if (trim_.heave) trim_weights_.weight = -at_release.force.z() / d.z();
+  if (trim_.pitch) trim_weights_.first_moment = at_release.moment.y() / d.z();
+}
 
 RigidBodyStep CoupledBody::rk4_pass(const BodyLoads& f_next) {
   // §11.6's interpolation of the flow loads, each stage plus M_A times its acceleration
@@ -50,10 +77,10 @@ RigidBodyStep CoupledBody::rk4_pass(const BodyLoads& f_next) {
     stage[s] += BodyLoads{extra.head<3>(), extra.tail<3>()};
   }
   StateDependentLoads ballast = nullptr;
-  if (!ballast_.empty())
+  if (!ballast_.empty() || trim_.any())
     ballast = [this](const RigidBodyState& at, Real t) {
-      const Vec3 down = rotation_matrix(at.attitude()).transpose() * body_.mass_properties().down;
-      return ballast_loads(ballast_, down, t);
+      const Vec3 down = down_body(at);
+      return ballast_loads(ballast_, down, t) + trim_weights_.loads(down);
     };
   RigidBodyStep st = advance_rk4_stages(body_, y_n_, time_, step_, stage, ballast, &stage_acc_);
   // The flow's kinematics (see the header): the step's displacement and turn from the
@@ -128,11 +155,13 @@ std::vector<Real> CoupledBody::checkpoint() const {
   v.push_back(static_cast<Real>(steps_));
   v.push_back(time_);
   v.push_back(step_);
+  v.push_back(trim_weights_.weight);
+  v.push_back(trim_weights_.first_moment);
   return v;
 }
 
 void CoupledBody::restore(const std::vector<Real>& v) {
-  const std::size_t expected = 2 * 13 + 3 * 6 + 4 * 6 + 3;
+  const std::size_t expected = 2 * 13 + 3 * 6 + 4 * 6 + 3 + 2;
   if (v.size() != expected)
     fail("restart: the body's state has {} values, this build expects {}", v.size(), expected);
   std::size_t at = 0;
@@ -149,6 +178,8 @@ void CoupledBody::restore(const std::vector<Real>& v) {
   steps_ = static_cast<int>(v[at++]);
   time_ = v[at++];
   step_ = v[at++];
+  trim_weights_.weight = v[at++];
+  trim_weights_.first_moment = v[at++];
 }
 
 }  // namespace narwhal

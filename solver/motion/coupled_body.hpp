@@ -52,6 +52,26 @@ struct CouplingSettings {
   Real tolerance = 1e-6;  // on the velocities' change per correction
 };
 
+// Trimmed at release: a manoeuvre starts from straight and level flight, so the loads the
+// body feels at t = 0 (the flow's, the propulsor's, weight and buoyancy; not the ballast
+// changes the manoeuvre makes) are balanced, as a crew trims a submarine: in heave by a
+// weight added at O (water taken into a trim tank there, dW > 0, or pumped out), in pitch
+// by water moved between trim tanks fore and aft (a couple: its weight's first moment
+// along x_B, s = sum dW_i x_i). Both then act as weights, turning with gravity in body
+// axes. The mass matrix stays the case's (as for ballast: motion/ballast.hpp).
+struct TrimSpec {
+  bool heave = false;
+  bool pitch = false;
+  bool any() const { return heave || pitch; }
+};
+
+struct TrimWeights {
+  Real weight = 0.0;        // dW added at O
+  Real first_moment = 0.0;  // s, along x_B
+  // Their loads with gravity along `down_body` (unit, body axes), about O.
+  BodyLoads loads(const Vec3& down_body) const;
+};
+
 // The state of a body whose axes are grid_axes.hpp's, O at `origin` (grid
 // coordinates), moving with `velocity` and turning with `angular_velocity` (grid axes).
 RigidBodyState body_state_at_release(const Vec3& origin, const Vec3& velocity, const Vec3& angular_velocity);
@@ -62,11 +82,13 @@ class CoupledBody {
   // `ballast`: changes of weight in time (motion/ballast.hpp), evaluated at every RK4
   // stage with the hydrostatics.
   CoupledBody(const MassProperties& mp, const AccelerationOptions& options, const RigidBodyState& initial,
-              const CouplingSettings& settings, std::vector<BallastChange> ballast = {});
+              const CouplingSettings& settings, std::vector<BallastChange> ballast = {}, TrimSpec trim = {});
 
   // The flow's loads on the initial state (earth axes, about O): F^0, which the first
   // step's predictor takes (none given: zero, as on a body released in still fluid).
+  // Before the first step, the trim (TrimSpec) is found from them.
   void observe_initial_loads(const BodyLoads& flow_earth);
+  const TrimWeights& trim() const { return trim_weights_; }
   // §11.6-11.7 predictor for the step from t^n = time to t^n + step, which the flow
   // takes with BDF coefficients c: the estimate of the last step (and its latest loads)
   // becomes y^n (F^n).
@@ -91,17 +113,21 @@ class CoupledBody {
   const Vec3& pivot() const { return pivot_; }
 
   // Everything a restart needs to continue bit for bit (both states, the loads of two
-  // levels, the last pass's stage accelerations), as one flat list.
+  // levels, the last pass's stage accelerations, the trim), as one flat list.
   std::vector<Real> checkpoint() const;
   void restore(const std::vector<Real>& values);  // throws Error on a list of another length
 
  private:
   RigidBodyStep rk4_pass(const BodyLoads& f_next);  // RK4 velocities, the flow's kinematics
   BodyLoads to_body_axes(const BodyLoads& earth) const;
+  Vec3 down_body(const RigidBodyState& at) const;  // gravity's direction in body axes
+  void find_trim();
 
   RigidBodyEquations body_;
   CouplingSettings settings_;
   std::vector<BallastChange> ballast_;
+  TrimSpec trim_;
+  TrimWeights trim_weights_;
   Vec3 pivot_;
   Mat3 initial_rotation_;
   RigidBodyState y_n_, estimate_;

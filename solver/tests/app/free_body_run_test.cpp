@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "app/driver.hpp"
 #include "core/error.hpp"
 #include "test_support.hpp"
@@ -253,6 +255,29 @@ tank = [0.0, 0.0, 0.0]
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("motion.ballast[0].mass"), std::string::npos) << e.what();
   }
+}
+
+TEST(FreeBodyRun, TrimmedAtReleaseAHeavySphereWithItsWeightAheadStaysAtRest) {
+  // Density ratio 1.2, its centre of gravity 0.05 ahead of O: untrimmed it sinks and
+  // pitches; trimmed in heave and pitch (motion.trim) the weights balance W - B and
+  // W x_G at release, and in still fluid nothing else acts.
+  const std::vector<std::string> held = {"time.steps=3", "motion.centre_of_gravity=[0.05, 0.0, 0.0]",
+                                         "motion.free=[\"heave\", \"pitch\"]"};
+  std::vector<std::string> trimmed = held;
+  trimmed.emplace_back("motion.trim=[\"heave\", \"pitch\"]");
+  const fs::path still = test::fresh_temp_dir("narwhal_trimmed"), sinking = test::fresh_temp_dir("narwhal_untrimmed");
+  ASSERT_EQ(run(released_sphere(1.2), still, trimmed).status, RunStatus::Completed);
+  ASSERT_EQ(run(released_sphere(1.2), sinking, held).status, RunStatus::Completed);
+  for (const char* name : {"w", "q"}) {
+    for (Real v : column(still, name)) EXPECT_LT(std::abs(v), 1e-12) << name;
+    EXPECT_GT(std::abs(column(sinking, name).back()), 1e-3) << name;
+  }
+  // Gravity along -z = -z_B: the weight taken out is W - B = 0.2 V, its first moment
+  // W x_G (run.json, flow units).
+  std::ifstream in(still / "run.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_NEAR(j["trim"]["weight"].get<Real>(), -0.2 * kVolume, 1e-14);
+  EXPECT_NEAR(std::abs(j["trim"]["first_moment"].get<Real>()), 1.2 * kVolume * 0.05, 1e-14);
 }
 
 TEST(FreeBodyRun, ARestartContinuesBitForBit) {
