@@ -71,7 +71,11 @@ PEER_CODES = ("openfoam",)
 # "wake_strip": the flow speed in the plane y = y_O through a free body's origin, from
 # the solution.cgns of `run` and of the runs in `then` (later states of the same fall,
 # each continuing the one before), side by side.
-PICTURE_KINDS = ("surface", "axial", "azimuthal", "friction_lines", "time_history", "wake_strip")
+# "side_view": a free body's path through the water in the vertical plane (travel against
+# the stream, rise against gravity) with its axis drawn along it, nose marked; `beside`:
+# the same manoeuvre at another time step or on another grid, on the same axes. A
+# time_history also draws motion:rise and motion:travel.
+PICTURE_KINDS = ("surface", "axial", "azimuthal", "friction_lines", "time_history", "wake_strip", "side_view")
 TIME_HISTORY_FILES = ("steps", "motion")
 
 

@@ -152,12 +152,16 @@ def release_acceleration(ctx, spec, run_id):
     return float(a0 / g)
 
 
+def body_axis(m):
+    """Per row of motion.csv: the body's x axis in earth axes, R(e) x_B."""
+    e0, e1, e2, e3 = (m[k] for k in ("e0", "e1", "e2", "e3"))
+    return np.column_stack([1 - 2 * (e2 * e2 + e3 * e3), 2 * (e1 * e2 + e0 * e3), 2 * (e1 * e3 - e0 * e2)])
+
+
 def axis_from_vertical_deg(m, down):
     """Per row of motion.csv: the angle (degrees, 0 to 90) between the body's x axis,
     R(e) x_B in earth axes, and the unit vector `down`."""
-    e0, e1, e2, e3 = (m[k] for k in ("e0", "e1", "e2", "e3"))
-    axis = np.column_stack([1 - 2 * (e2 * e2 + e3 * e3), 2 * (e1 * e2 + e0 * e3), 2 * (e1 * e3 - e0 * e2)])
-    return np.degrees(np.arccos(np.minimum(1.0, np.abs(axis @ down))))
+    return np.degrees(np.arccos(np.minimum(1.0, np.abs(body_axis(m) @ down))))
 
 
 @extractor("axis_from_vertical", "at")
@@ -202,3 +206,81 @@ def speed_rise(ctx, spec, run_id):
     if speed.size < 2:
         raise HarnessError(f"speed_rise: run '{run_id}' has fewer than two steps from t = {spec.get('from_time', 0.0)}")
     return float(np.max(np.diff(speed) / speed[1:]))
+
+
+def free_body_frame(run_input, whose):
+    """What a free body's path through the water is measured in, from its run's input:
+    (origin at release, the water's velocity far from it, gravity's unit vector), grid
+    axes. The water is the far field's (bc.farfield.velocity; without it the unit stream
+    +x, which a flow angle of attack or drift would turn: those runs must give it)."""
+    motion = run_input.get("motion", {})
+    if motion.get("type") != "free" or "gravity" not in motion:
+        raise HarnessError(f"{whose} needs [motion] type = \"free\" with a gravity vector")
+    down, _ = gravity_direction(motion["gravity"], whose)
+    origin = np.array([float(v) for v in motion.get("origin", [0.0, 0.0, 0.0])])
+    far = run_input.get("bc", {}).get("farfield", {})
+    flow = run_input.get("flow", {})
+    if "velocity" in far:
+        stream = np.array([float(v) for v in far["velocity"]])
+    elif float(flow.get("angle_of_attack", 0.0)) != 0.0 or float(flow.get("drift_angle", 0.0)) != 0.0:
+        raise HarnessError(f"{whose}: with a flow angle the water's velocity is not +x: give bc.farfield.velocity")
+    else:
+        stream = np.array([1.0, 0.0, 0.0])
+    if origin.shape != (3,) or stream.shape != (3,):
+        raise HarnessError(f"{whose}: motion.origin and bc.farfield.velocity must be vectors of 3")
+    return origin, stream, down
+
+
+def water_path(m, frame):
+    """Per row of motion.csv, a free body's displacement through the water since release,
+    P = x_O(t) - x_O(0) - V_w t (grid axes), and its two readings in the vertical plane:
+    travel (P along the horizontal direction the body heads into the stream, -V_w's) and
+    rise (P against gravity)."""
+    origin, stream, down = frame
+    p = np.column_stack([m["x"], m["y"], m["z"]]) - origin - np.outer(m["time"], stream)
+    ahead = -(stream - (stream @ down) * down)
+    if np.linalg.norm(ahead) == 0.0:
+        raise HarnessError("the water's velocity is along gravity: no horizontal travel to measure the path by")
+    ahead /= np.linalg.norm(ahead)
+    return p, p @ ahead, -(p @ down)
+
+
+def _path(ctx, run_id):
+    return water_path(_motion(ctx, run_id), free_body_frame(ctx.inputs[run_id], f"run '{run_id}'"))
+
+
+@extractor("path", "part", "reduce")
+def path(ctx, spec, run_id):
+    """A free body's path through the water in the vertical plane, in L: part = "rise"
+    (against gravity since release) or "travel" (horizontally, against the stream), its
+    largest (reduce = "max"), smallest ("min") or last ("end") value."""
+    part, reduce = spec.get("part"), spec.get("reduce", "end")
+    if part not in ("rise", "travel"):
+        raise HarnessError(f"path: part must be rise or travel, got {part!r}")
+    if reduce not in ("max", "min", "end"):
+        raise HarnessError(f"path: reduce must be max, min or end, got {reduce!r}")
+    _, travel, rise = _path(ctx, run_id)
+    values = rise if part == "rise" else travel
+    return float({"max": np.max(values), "min": np.min(values), "end": values[-1]}[reduce])
+
+
+@extractor("path_difference", "other")
+def path_difference(ctx, spec, run_id):
+    """How far apart two runs' paths through the water are (the same manoeuvre at two time
+    steps or on two grids): the largest distance |P_run(t) - P_other(t)| over the times of
+    `run` up to the shorter run's end, `other`'s path interpolated linearly to them (both
+    paths start at P = 0 at t = 0), in L."""
+    other = spec.get("other", "")
+    if not other:
+        raise HarnessError("path_difference: give `other`, the run to compare the path with")
+    m_a, m_b = _motion(ctx, run_id), _motion(ctx, other)
+    p_a, _, _ = _path(ctx, run_id)
+    p_b, _, _ = _path(ctx, other)
+    t_b = np.concatenate([[0.0], m_b["time"]])
+    p_b = np.vstack([np.zeros(3), p_b])
+    within = m_a["time"] <= t_b[-1] + 1e-12
+    if not np.any(within):
+        raise HarnessError(f"path_difference: '{other}' ends before '{run_id}''s first step")
+    t = m_a["time"][within]
+    at = np.column_stack([np.interp(t, t_b, p_b[:, k]) for k in range(3)])
+    return float(np.max(np.linalg.norm(p_a[within] - at, axis=1)))

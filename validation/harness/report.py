@@ -19,7 +19,7 @@ from . import browser  # noqa: E402
 from .body import (around, azimuthal_mean, meridian_stations, meridians, separation_azimuth,  # noqa: E402
                    with_crossflow_friction)
 from .extract import read_csv  # noqa: E402
-from .motion import axis_from_vertical_deg, fall_components, gravity_direction  # noqa: E402
+from .motion import axis_from_vertical_deg, body_axis, fall_components, gravity_direction, water_path  # noqa: E402
 from .solution import read_solution  # noqa: E402
 from .errors import HarnessError  # noqa: E402
 from .settings import split_settings  # noqa: E402
@@ -327,7 +327,56 @@ def _time_history(rung_dir, pic):
             return t["time"], axis_from_vertical_deg(t, down), "axis from vertical [deg]"
         vertical, horizontal = fall_components(t, down)
         return t["time"], vertical if column == "vertical_velocity" else horizontal, column.replace("_", " ")
+    if name == "motion" and column in ("rise", "travel") and pic.get("frame"):
+        _, travel, rise = water_path(t, _frame(pic))
+        return t["time"], rise if column == "rise" else travel, f"{column} through the water [L]"
     return (t["time"], t[column], column) if column in t else None
+
+
+def _frame(pic):
+    f = pic["frame"]
+    return np.array(f["origin"]), np.array(f["stream"]), np.array(f["down"])
+
+
+def _plot_side_view(rung_dir, pic, path):
+    """A free body's path through the water seen from the side (travel, rise), with its
+    axis drawn every unit of time from nose (dotted) to tail: the body of a unit-length
+    grid from x = 0 to 1 (the SUBOFF grids: nose at x = 0, x_B = -x); `beside`: another
+    run, dashed."""
+    frame = _frame(pic)
+    origin, stream, down = frame
+    ahead = -(stream - (stream @ down) * down)
+    ahead /= np.linalg.norm(ahead)
+    runs = [(r, style) for r, style in ((pic["run"], "-"), (pic.get("beside"), "--"))
+            if r and (rung_dir / "runs" / r / "motion.csv").exists()]
+    if not runs:
+        return False
+    fig, ax = plt.subplots(figsize=(9.0, 3.6))
+    nose = float(origin[0])  # O's distance behind the nose at x = 0
+    for n, (run, style) in enumerate(runs):
+        m = read_csv(rung_dir / "runs" / run / "motion.csv")
+        _, travel, rise = water_path(m, frame)
+        colour = ("tab:blue", "tab:orange")[n]
+        ax.plot(travel, rise, style, color=colour, lw=1.2, label=f"Narwhal, {run}: path of O")
+        axis = body_axis(m)
+        a, b = axis @ ahead, -(axis @ down)
+        last = -1.0
+        for k, t in enumerate(m["time"]):
+            if t - last < 1.0 - 1e-9:
+                continue
+            last = t
+            tail, front = -(1.0 - nose), nose  # the body from its tail to its nose along x_B, O between
+            ax.plot([travel[k] + tail * a[k], travel[k] + front * a[k]],
+                    [rise[k] + tail * b[k], rise[k] + front * b[k]], "-", color=colour, lw=2.2, alpha=0.55)
+            ax.plot([travel[k] + front * a[k]], [rise[k] + front * b[k]], "o", color=colour, ms=3)
+    ax.set_aspect("equal")
+    ax.set_xlabel("travel through the water [L]")
+    ax.set_ylabel("rise [L]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    _title(ax, pic["title"])
+    _save(fig, path)
+    return True
 
 
 def _picture_time_history(series, pic, ax):
@@ -393,6 +442,8 @@ def _plot_wake_strip(rung_dir, pic, path):
 
 
 def _plot_picture(rung_dir, pic, path):
+    if pic["kind"] == "side_view":
+        return _plot_side_view(rung_dir, pic, path)
     if pic["kind"] == "wake_strip":
         return _plot_wake_strip(rung_dir, pic, path)
     if pic["kind"] == "time_history":

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from .compare import Curve, Family, compare
 from .errors import HarnessError
+from .motion import free_body_frame
 from .extract import Context, extract
 from .reference import ReferenceFile
 from .references import resolve_reference
@@ -369,6 +370,12 @@ def _picture(p, reference_root, run_input):
     gravity = run_input.get("motion", {}).get("gravity")
     if gravity is not None:
         entry["gravity"] = [float(g) for g in gravity]
+    if p.kind == "side_view" or p.column in ("motion:rise", "motion:travel"):
+        try:
+            origin, stream, down = free_body_frame(run_input, f"picture of run '{p.run}'")
+            entry["frame"] = {"origin": origin.tolist(), "stream": stream.tolist(), "down": down.tolist()}
+        except HarnessError as e:
+            entry["error"] = str(e)
     if p.reference:
         try:
             ref = ReferenceFile(reference_root, p.reference["file"])

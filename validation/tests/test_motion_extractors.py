@@ -194,3 +194,84 @@ class StandardDragFall(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class PathThroughTheWater(unittest.TestCase):
+    """A body held in a stream of 1 along +x (it heads into it, towards -x), gravity +z:
+    its path through the water is its grid position less the stream's carry."""
+    HEADER = Fall.HEADER
+
+    def write(self, d, run, times, position_of):
+        rows = [[n + 1, t, *position_of(t), 1, 0, 0, 0] + [0.0] * 17 for n, t in enumerate(times)]
+        write_csv(Path(d) / run / "motion.csv", self.HEADER, rows)
+
+    def inputs(self, *runs, farfield=None):
+        motion = {"type": "free", "gravity": [0.0, 0.0, 4.59], "origin": [0.46, 0.0, 0.0]}
+        bc = {"farfield": {"type": "farfield", **({"velocity": farfield} if farfield else {})}}
+        return {r: {"motion": motion, "bc": bc} for r in runs}
+
+    def test_rise_and_travel_come_back_from_a_path_built_of_them(self):
+        # Through the water: travel 1.0 t (and, held in the stream, x stays), rise 0.1 sin(t)
+        # (z down): a rise to 0.1 at t = pi/2, back to 0 at pi, down to -0.1 at 3 pi / 2.
+        times = np.arange(1, 501) * 0.01
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, "run", times, lambda t: (0.46, 0.0, -0.1 * math.sin(t)))
+            ctx, fn = Ctx(d, self.inputs("run")), EXTRACT["path"][0]
+            self.assertAlmostEqual(fn(ctx, {"part": "rise", "reduce": "max"}, "run"), 0.1, places=6)
+            self.assertAlmostEqual(fn(ctx, {"part": "rise", "reduce": "min"}, "run"), -0.1, places=6)
+            self.assertAlmostEqual(fn(ctx, {"part": "rise", "reduce": "end"}, "run"), 0.1 * math.sin(5.0), places=12)
+            self.assertAlmostEqual(fn(ctx, {"part": "travel", "reduce": "end"}, "run"), 5.0, places=12)
+            # Slowing in the stream (drifting aft, +x, at 0.1) it travels 10 % less.
+            self.write(d, "run", times, lambda t: (0.46 + 0.1 * t, 0.0, 0.0))
+            self.assertAlmostEqual(fn(ctx, {"part": "travel", "reduce": "end"}, "run"), 4.5, places=12)
+            # A far field given moves the water with it.
+            ctx = Ctx(d, self.inputs("run", farfield=[0.5, 0.0, 0.0]))
+            self.assertAlmostEqual(fn(ctx, {"part": "travel", "reduce": "end"}, "run"), 2.0, places=12)
+            with self.assertRaisesRegex(HarnessError, "part must be"):
+                fn(ctx, {"part": "depth"}, "run")
+
+    def test_two_time_steps_paths_differ_by_their_largest_distance(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, "coarse", np.arange(1, 251) * 0.02, lambda t: (0.46, 0.0, -0.1 * math.sin(t)))
+            self.write(d, "fine", np.arange(1, 501) * 0.01, lambda t: (0.46, 0.0, -0.1 * math.sin(t) - 0.004 * t))
+            ctx, fn = Ctx(d, self.inputs("coarse", "fine")), EXTRACT["path_difference"][0]
+            # The fine path sinks 0.004 t more; linear interpolation of a sine on 0.01 errs by < 2e-6.
+            self.assertAlmostEqual(fn(ctx, {"other": "fine"}, "coarse"), 0.02, delta=2e-6)
+            self.assertAlmostEqual(fn(ctx, {"other": "coarse"}, "fine"), 0.02, delta=2e-6)
+            # Compared up to the shorter run's end.
+            self.write(d, "fine", np.arange(1, 101) * 0.01, lambda t: (0.46, 0.0, -0.1 * math.sin(t) - 0.004 * t))
+            self.assertAlmostEqual(fn(ctx, {"other": "fine"}, "coarse"), 0.004, delta=2e-6)
+
+    def test_a_run_turned_by_a_flow_angle_must_give_its_water(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, "run", [0.1], lambda t: (0.46, 0.0, 0.0))
+            inputs = self.inputs("run")
+            inputs["run"]["flow"] = {"angle_of_attack": 4.0}
+            with self.assertRaisesRegex(HarnessError, "give bc.farfield.velocity"):
+                EXTRACT["path"][0](Ctx(d, inputs), {"part": "rise"}, "run")
+
+
+class SideView(unittest.TestCase):
+    def test_two_paths_and_the_time_histories_of_rise_are_drawn(self):
+        from harness import report
+        with tempfile.TemporaryDirectory() as d:
+            rung_dir = Path(d)
+            writer = PathThroughTheWater()
+            for run, dt in (("coarse", 0.02), ("fine", 0.01)):
+                times = np.arange(1, round(5.0 / dt) + 1) * dt
+                rows = []
+                for n, t in enumerate(times):
+                    # The release attitude (x_B = -x: 180 degrees about z) pitched about y_B,
+                    # nose down by 11 degrees at the end.
+                    pitch = -0.2 * t / 5.0
+                    e = [0.0, -math.sin(pitch / 2), 0.0, math.cos(pitch / 2)]
+                    rows.append([n + 1, t, 0.46, 0.0, -0.1 * math.sin(t), *e] + [0.0] * 17)
+                write_csv(rung_dir / "runs" / run / "motion.csv", writer.HEADER, rows)
+            frame = {"origin": [0.46, 0.0, 0.0], "stream": [1.0, 0.0, 0.0], "down": [0.0, 0.0, 1.0]}
+            pic = {"kind": "side_view", "run": "coarse", "beside": "fine", "title": "blow", "frame": frame}
+            self.assertTrue(report._plot_picture(rung_dir, pic, rung_dir / "side.png"))
+            self.assertGreater((rung_dir / "side.png").stat().st_size, 1000)
+            pic = {"kind": "time_history", "run": "fine", "column": "motion:rise", "title": "rise", "frame": frame}
+            series = report._time_history(rung_dir, pic)
+            self.assertAlmostEqual(float(np.max(series[1])), 0.1, places=6)
+            self.assertTrue(report._plot_picture(rung_dir, pic, rung_dir / "rise.png"))
