@@ -184,6 +184,8 @@ def _literal(v):
         return '"' + v.replace('\\', '\\\\').replace('"', '\\"') + '"'
     if isinstance(v, list):
         return "[" + ", ".join(_literal(x) for x in v) + "]"
+    if isinstance(v, dict):  # an inline table: [[motion.ballast]] entries set as a list of them
+        return "{" + ", ".join(f"{k} = {_literal(x)}" for k, x in v.items()) + "}"
     raise HarnessError(f"cannot pass {v!r} to narwhal --set")
 
 

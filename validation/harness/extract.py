@@ -185,12 +185,16 @@ def cf_vs_retheta(ctx, spec, run_id):
 
 @extractor("run_json", "field")
 def run_json(ctx, spec, run_id):
+    """A number of run.json; `field` may walk into its tables with dots (trim.weight)."""
     with open(ctx.run_dir(run_id) / "run.json") as f:
         data = json.load(f)
     field = _need(spec, "field", "a run.json field")
-    if field not in data:
-        raise HarnessError(f"run.json of '{run_id}' has no field '{field}'")
-    return float(data[field])
+    node = data
+    for part in field.split("."):
+        if not isinstance(node, dict) or part not in node:
+            raise HarnessError(f"run.json of '{run_id}' has no field '{field}'")
+        node = node[part]
+    return float(node)
 
 
 @extractor("history_last", "column", "columns")

@@ -46,6 +46,19 @@ class RungFiles(unittest.TestCase):
         self.assertIn(str(path), msg)
         return msg
 
+    def test_set_values_go_back_to_toml_inline_tables_included(self):
+        # A run's `set` reaches narwhal as --set key=<TOML>: a list of inline tables (tanks of
+        # [[motion.ballast]]) comes back as the same value.
+        import tomllib
+        text = GOOD.replace('input = "in.toml"', 'input = "in.toml"\nset = { "motion.ballast" = '
+                            '[{ mass = 1.5e-5, tank = [0.3, 0.0, 0.0] }, { mass = 2e-5, tank = [-0.3, 0.0, 0.0] }], '
+                            '"grid.configuration" = "full" }')
+        rung = load_rung(self.write(text))
+        sets = rung.runs[0].set
+        self.assertEqual(tomllib.loads("v = " + sets["motion.ballast"])["v"],
+                         [{"mass": 1.5e-5, "tank": [0.3, 0.0, 0.0]}, {"mass": 2e-5, "tank": [-0.3, 0.0, 0.0]}])
+        self.assertEqual(tomllib.loads("v = " + sets["grid.configuration"])["v"], "full")
+
     def test_misspelled_extractor_key_is_named_with_a_suggestion(self):
         # x_mx = 0.9 used to be ignored, and the whole plate compared.
         msg = self.error(GOOD.replace('field = "iterations" }',

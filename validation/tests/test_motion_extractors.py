@@ -275,3 +275,16 @@ class SideView(unittest.TestCase):
             series = report._time_history(rung_dir, pic)
             self.assertAlmostEqual(float(np.max(series[1])), 0.1, places=6)
             self.assertTrue(report._plot_picture(rung_dir, pic, rung_dir / "rise.png"))
+
+
+class RunJsonTables(unittest.TestCase):
+    def test_a_field_may_walk_into_run_json_s_tables(self):
+        with tempfile.TemporaryDirectory() as d:
+            (Path(d) / "run").mkdir()
+            (Path(d) / "run" / "run.json").write_text('{"wall_seconds": 12.5, "trim": {"weight": -3e-5}}')
+            ctx, fn = Ctx(d, {}), EXTRACT["run_json"][0]
+            self.assertEqual(fn(ctx, {"field": "trim.weight"}, "run"), -3e-5)
+            self.assertEqual(fn(ctx, {"field": "wall_seconds"}, "run"), 12.5)
+            for missing in ("trim.moment", "wall_seconds.x", "ballast"):
+                with self.assertRaisesRegex(HarnessError, "no field"):
+                    fn(ctx, {"field": missing}, "run")
