@@ -39,6 +39,7 @@ ControlSurfaces::ControlSurfaces(const CaseConfig& c, int split_for, int levels,
       shaped_(angles_) {
   if (c.controls) schedule_.emplace(*c.controls);
   if (c.autopilot) autopilot_.emplace(*c.autopilot);
+  if (c.zigzag) zigzag_.emplace(*c.zigzag);
 }
 
 bool ControlSurfaces::reshape(const suboff::Deflections& d, RunMotion& motion) {
@@ -58,6 +59,7 @@ bool ControlSurfaces::begin_step(Real t_next, Real dt, const VehicleReading& now
   previous_ = angles_;
   if (schedule_) angles_ = schedule_->at(t_next, angles_);
   if (autopilot_) angles_ = autopilot_->command(now, dt, angles_);
+  if (zigzag_) angles_ = zigzag_->command(t_next, dt, now, angles_);
   return reshape(angles_, motion);
 }
 
@@ -66,18 +68,24 @@ std::vector<Real> ControlSurfaces::checkpoint() const {
                       angles_.rudder,   angles_.stern_planes,   angles_.sail_planes};
   if (autopilot_)
     for (Real x : autopilot_->checkpoint()) v.push_back(x);
+  if (zigzag_)
+    for (Real x : zigzag_->checkpoint()) v.push_back(x);  // last: its length is fixed
   return v;
 }
 
 void ControlSurfaces::restore(const std::vector<Real>& v) {
   if (v.empty())
-    fail("restart: it holds no control-surface state (written by a run without [controls] or [autopilot]); a "
-         "dual-time run that turns its surfaces continues only from its own restarts");
-  if (v.size() < 6) fail("restart: its control-surface state has {} values, at least 6 expected", v.size());
+    fail("restart: it holds no control-surface state (written by a run without [controls], [autopilot] or [zigzag]); "
+         "a dual-time run that turns its surfaces continues only from its own restarts");
+  const std::size_t zigzag_values = zigzag_ ? zigzag_->checkpoint().size() : 0;
+  if (v.size() < 6 + zigzag_values)
+    fail("restart: its control-surface state has {} values, at least {} expected", v.size(), 6 + zigzag_values);
   previous_ = {v[0], v[1], v[2]};
   angles_ = {v[3], v[4], v[5]};
-  if (autopilot_) autopilot_->restore(std::vector<Real>(v.begin() + 6, v.end()));
-  else if (v.size() != 6) fail("restart: it holds an autopilot's state; this case has no [autopilot]");
+  const std::vector<Real> pilot(v.begin() + 6, v.end() - static_cast<std::ptrdiff_t>(zigzag_values));
+  if (autopilot_) autopilot_->restore(pilot);
+  else if (!pilot.empty()) fail("restart: it holds an autopilot's state; this case has no [autopilot]");
+  if (zigzag_) zigzag_->restore(std::vector<Real>(v.end() - static_cast<std::ptrdiff_t>(zigzag_values), v.end()));
 }
 
 }  // namespace narwhal

@@ -1,8 +1,8 @@
 #pragma once
 // A run's control surfaces turned in time (issue 19): their angles for each physical step,
 // from the case's schedules ([controls], control/control_schedule.hpp) and autopilots
-// ([autopilot], control/autopilot.hpp, sampled once per step from the vehicle at the
-// step's start), and, when the angles change, the grids a moving run keeps reshaped to
+// ([autopilot], control/autopilot.hpp) and a zig-zag ([zigzag], control/zigzag.hpp), both
+// sampled once per step from the vehicle at the step's start, and, when the angles change, the grids a moving run keeps reshaped to
 // them (app/grid_shapes.hpp, MovingGrid::reshape) before they move to the step's pose.
 // What else depends on where the walls are (the turbulence model's wall distances, the
 // propulsor's disk cells) the caller makes again when a turn says the grids changed.
@@ -13,6 +13,7 @@
 #include "app/run_motion.hpp"
 #include "control/autopilot.hpp"
 #include "control/control_schedule.hpp"
+#include "control/zigzag.hpp"
 
 namespace narwhal {
 
@@ -35,7 +36,7 @@ class ControlSurfaces {
   const suboff::Deflections& angles() const { return angles_; }
   Real pitch_command() const { return autopilot_ ? autopilot_->pitch_command() : 0.0; }
 
-  // Restarts: the angles of the last two levels and the autopilots' state, as one list;
+  // Restarts: the angles of the last two levels, the autopilots' and the zig-zag's state, as one list;
   // restore takes it back, then the grids go to level n-1's angles and to level n's.
   std::vector<Real> checkpoint() const;
   void restore(const std::vector<Real>& values);
@@ -47,6 +48,7 @@ class ControlSurfaces {
 
   std::optional<ControlSchedule> schedule_;
   std::optional<Autopilot> autopilot_;
+  std::optional<Zigzag> zigzag_;
   GridShapes shapes_;
   suboff::Deflections angles_, previous_;  // of t^n (t^{n+1} once a step began) and the level before
   suboff::Deflections shaped_;             // those the grids' shapes have

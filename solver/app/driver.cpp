@@ -494,7 +494,7 @@ class SteadyRun {
     // else the finest level (not the coarsest: its nodes sample a curved far field more
     // coarsely, and a restart's block extents would not match).
     motion_ = std::make_unique<RunMotion>(c_, grids, pieces_ ? grids.size() - 1 : 0);
-    if (c_.controls || c_.autopilot) {
+    if (c_.controls || c_.autopilot || c_.zigzag) {
       controls_ = std::make_unique<ControlSurfaces>(c_, split_for_, mg_ ? mg_->levels() : 1, pieces_);
       if (controls_->start(*motion_)) walls_moved_pending_ = true;
       if (root_)
@@ -904,7 +904,7 @@ class SteadyRun {
   std::unique_ptr<FlowRateControl> flow_rate_;
   std::unique_ptr<PropulsionControl> propulsion_;
   std::unique_ptr<PropulsorWriter> propulsor_csv_;
-  std::unique_ptr<ControlSurfaces> controls_;  // [controls], [autopilot]: surfaces turned in time
+  std::unique_ptr<ControlSurfaces> controls_;  // [controls], [autopilot], [zigzag]: surfaces turned in time
   std::unique_ptr<ControlsWriter> controls_csv_;
   bool walls_moved_pending_ = false;           // the grids reshaped since after_walls_moved
   int split_for_ = 1;                          // the ranks the run's blocks were cut for

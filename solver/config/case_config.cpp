@@ -474,6 +474,40 @@ void read_autopilot(const ConfigReader& r, CaseConfig& c) {
   c.autopilot = a;
 }
 
+// [zigzag] (control/zigzag.hpp): a zig-zag manoeuvre of the rudders or the stern planes,
+// angles in degrees. After read_autopilot: one controller drives each surface.
+void read_zigzag(const ConfigReader& r, CaseConfig& c) {
+  if (!r.has("zigzag")) return;
+  if (c.grid.type != "appended_suboff")
+    r.error("zigzag", "a zig-zag turns an appended SUBOFF's control surfaces (grid.type = \"appended_suboff\")");
+  if (!c.time.unsteady()) r.error("zigzag", "a zig-zag happens in physical time: add a [time] table");
+  const Real degree = std::acos(-1.0) / 180.0;
+  ZigzagSettings z;
+  const std::string surface = r.string("zigzag.surface", "the surface: rudder (heading) or stern_planes (pitch)");
+  if (surface != "rudder" && surface != "stern_planes")
+    r.error("zigzag.surface", "expected \"rudder\" or \"stern_planes\", got '" + surface + "'");
+  z.surface = surface == "rudder" ? ZigzagSettings::Surface::Rudder : ZigzagSettings::Surface::SternPlanes;
+  if (!has_appendage(c, surface == "rudder" ? "upper_rudder" : "starboard_stern_plane"))
+    r.error("zigzag.surface", fmt::format("configuration '{}' has no {}", c.grid.appended.configuration, surface));
+  if (r.has("controls." + surface))
+    r.error("zigzag.surface", fmt::format("the {0} are scheduled by [controls.{0}]: one of the two drives them", surface));
+  const bool piloted = c.autopilot && (surface == "rudder" ? c.autopilot->heading.has_value()
+                                                           : (c.autopilot->pitch || c.autopilot->depth_change));
+  if (piloted) r.error("zigzag.surface", fmt::format("the {} are driven by [autopilot]: one of the two drives them", surface));
+  z.angle = r.number("zigzag.angle", "the deflection, degrees", Range{0.0, 30.0, false, true}) * degree;
+  z.switch_at = r.number_or("zigzag.switch_at", z.angle / degree,
+                            "the heading or pitch change that reverses the surface, degrees (the deflection's)",
+                            Range{0.0, 90.0, false, true}) * degree;
+  z.start = r.number_or("zigzag.start", 0.0, "when the first deflection begins", Range::at_least(0.0));
+  z.rate = r.number_or("zigzag.rate", 0.0, "the surface's largest rate, degrees per unit time (0: at once)",
+                       Range::at_least(0.0)) * degree;
+  const Real first = r.number_or("zigzag.first", 1.0, "the first deflection's sign, 1 or -1");
+  if (first != 1.0 && first != -1.0) r.error("zigzag.first", fmt::format("expected 1 or -1, got {}", first));
+  z.first = static_cast<int>(first);
+  if (!c.grid_moves()) c.motion = PrescribedMotionSpec{};  // the grid deforms in place
+  c.zigzag = z;
+}
+
 // The fluid's density and the run's reference length and speed, that turn a free
 // body's SI properties into the flow's units (all 1: nondimensional).
 struct Scales {
@@ -807,6 +841,7 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   read_motion(r, c);
   read_controls(r, c);
   read_autopilot(r, c);
+  read_zigzag(r, c);
   if (c.propulsor && c.propulsor->rpm_control && c.time.unsteady())
     r.error("propulsor.rpm_control", "finds a steady self-propulsion point; a dual-time run (time.steps > 0) keeps the "
                                      "rotation rate (start it from the steady run's restart, which carries the rate found)");

@@ -10,6 +10,7 @@
 #include "config/propulsor_config.hpp"
 #include "control/autopilot.hpp"
 #include "control/control_schedule.hpp"
+#include "control/zigzag.hpp"
 #include "implicit/newton.hpp"
 #include "mesh/block.hpp"
 #include "mesh/appended_suboff.hpp"
@@ -141,6 +142,7 @@ struct CaseConfig {
   std::optional<FreeBodySpec> free_body;       // [motion] free: it moves as the body's equations say
   std::optional<ControlScheduleSpec> controls;  // [controls]: control surfaces turned in time (a moving grid)
   std::optional<AutopilotSettings> autopilot;   // [autopilot]: depth, pitch and heading held by the surfaces
+  std::optional<ZigzagSettings> zigzag;         // [zigzag]: the rudders or stern planes reversed at an attitude
   bool grid_moves() const { return motion.has_value() || free_body.has_value(); }
   OutputConfig output;
   TurbulenceSettings turbulence;

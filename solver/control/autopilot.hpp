@@ -20,16 +20,10 @@
 #include <vector>
 
 #include "control/pid_controller.hpp"
+#include "control/vehicle_reading.hpp"
 #include "mesh/suboff_geometry.hpp"
 
 namespace narwhal {
-
-// What the autopilots read of the vehicle, at a step's start.
-struct VehicleReading {
-  Real depth = 0.0, depth_rate = 0.0;      // along gravity, from the start
-  Real pitch = 0.0, pitch_rate = 0.0;      // theta (nose up > 0), its rate
-  Real heading = 0.0, heading_rate = 0.0;  // psi (nose to starboard > 0), its rate
-};
 
 struct AutopilotSettings {
   // Commands: unset leaves the loop off (its surface keeps the angle it has).

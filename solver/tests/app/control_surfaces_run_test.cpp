@@ -157,6 +157,42 @@ TEST(ControlSurfacesRun, AHeadingAutopilotTurnsTheRuddersAgainstTheYawAndRestart
   EXPECT_EQ(test::history_rows((part / "controls.csv").string()), test::history_rows((whole / "controls.csv").string()));
 }
 
+// The same yawing grid, its rudders in a zig-zag of 5 degrees reversed at 1 degree of
+// heading, the first deflection to starboard's side (-1: trailing edges to starboard,
+// driving the heading up).
+std::string yawing_in_a_zigzag() {
+  return std::string(test::kSmallAppendedCase) + kTwoSteps + R"(
+[motion]
+type = "prescribed"
+pivot = [0.5, 0.0, 0.0]
+[[motion.oscillation]]
+dof = "yaw"
+amplitude = 2.0
+angular_frequency = 40.0
+phase = 30.0
+[zigzag]
+surface = "rudder"
+angle = 5.0
+switch_at = 1.0
+first = -1
+)";
+}
+
+TEST(ControlSurfacesRun, AZigzagReversesTheRuddersAtItsHeadingAndRestartsBitForBit) {
+  // Step 1 takes the first deflection, -5; step 2 begins at psi = 2 sin(0.4 + 30 deg) =
+  // 1.6 degrees, past the 1 degree the -5 drove it towards: reversed to +5.
+  const fs::path whole = test::fresh_temp_dir("narwhal_zigzag_whole"), part = test::fresh_temp_dir("narwhal_zigzag_part");
+  ASSERT_EQ(run(yawing_in_a_zigzag(), whole).status, RunStatus::Completed);
+  const auto rows = test::read_csv((whole / "controls.csv").string());
+  EXPECT_EQ(rows.at("rudder_deg"), (std::vector<Real>{-5.0, 5.0}));
+  std::vector<std::string> first = kRoomyBoxes;
+  first.emplace_back("time.steps=1");
+  ASSERT_EQ(run(yawing_in_a_zigzag(), part, first).status, RunStatus::Completed);
+  ASSERT_EQ(run(yawing_in_a_zigzag(), part, kRoomyBoxes, (part / "restart.h5").string()).status, RunStatus::Completed);
+  EXPECT_EQ(test::history_rows((part / "controls.csv").string()), test::history_rows((whole / "controls.csv").string()));
+  EXPECT_EQ(test::history_rows((part / "steps.csv").string()), test::history_rows((whole / "steps.csv").string()));
+}
+
 TEST(ControlSurfacesRun, ASurfaceTheConfigurationLacksOrASteadyRunIsRefusedByKey) {
   auto error_of = [](const std::string& text, const std::vector<std::string>& sets) {
     try {
@@ -182,6 +218,13 @@ TEST(ControlSurfacesRun, ASurfaceTheConfigurationLacksOrASteadyRunIsRefusedByKey
   EXPECT_NE(e.find("autopilot.pitch"), std::string::npos) << e;
   e = error_of(yawing_under_autopilot(), {"autopilot.heading_loop.kp=-1.0"});
   EXPECT_NE(e.find("autopilot.heading_loop.kp"), std::string::npos) << e;
+  e = error_of(yawing_under_autopilot(), {"zigzag.surface=\"rudder\"", "zigzag.angle=10.0"});
+  EXPECT_NE(e.find("zigzag.surface"), std::string::npos) << e;
+  EXPECT_NE(e.find("[autopilot]"), std::string::npos) << e;
+  e = error_of(yawing_in_a_zigzag(), {"zigzag.first=0"});
+  EXPECT_NE(e.find("zigzag.first"), std::string::npos) << e;
+  e = error_of(yawing_in_a_zigzag(), {"zigzag.surface=\"sail_planes\""});
+  EXPECT_NE(e.find("zigzag.surface"), std::string::npos) << e;
   e = error_of(ramped_rudders(8.0, false), {});
   EXPECT_NE(e.find("'controls'"), std::string::npos) << e;
   EXPECT_NE(e.find("physical time"), std::string::npos) << e;

@@ -1,0 +1,14 @@
+#pragma once
+// What the manoeuvres' controllers (control/autopilot.hpp, control/zigzag.hpp) read of the
+// vehicle at a step's start. Marine axes (x_B forward, z_B down).
+#include "core/types.hpp"
+
+namespace narwhal {
+
+struct VehicleReading {
+  Real depth = 0.0, depth_rate = 0.0;      // along gravity, from the start
+  Real pitch = 0.0, pitch_rate = 0.0;      // theta (nose up > 0), its rate
+  Real heading = 0.0, heading_rate = 0.0;  // psi (nose to starboard > 0), its rate
+};
+
+}  // namespace narwhal
