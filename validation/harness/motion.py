@@ -284,3 +284,84 @@ def path_difference(ctx, spec, run_id):
     t = m_a["time"][within]
     at = np.column_stack([np.interp(t, t_b, p_b[:, k]) for k in range(3)])
     return float(np.max(np.linalg.norm(p_a[within] - at, axis=1)))
+
+
+def _horizontal_path(ctx, run_id):
+    """(time, ahead, starboard, yaw in degrees) of a free body's path through the water in
+    the horizontal plane: ahead along the direction it heads into the stream at release,
+    starboard across it (down x ahead: marine axes)."""
+    m = _motion(ctx, run_id)
+    frame = free_body_frame(ctx.inputs[run_id], f"run '{run_id}'")
+    p, travel, _ = water_path(m, frame)
+    _, stream, down = frame
+    ahead = -(stream - (stream @ down) * down)
+    ahead /= np.linalg.norm(ahead)
+    return m["time"], travel, p @ np.cross(down, ahead), m["yaw_deg"]
+
+
+def _first_crossing(t, values, level):
+    """The first time |values| reaches level (interpolated), or None."""
+    a = np.abs(values)
+    at = np.nonzero(a >= level)[0]
+    if at.size == 0:
+        return None
+    k = int(at[0])
+    if k == 0:
+        return float(t[0])
+    return float(np.interp(level, [a[k - 1], a[k]], [t[k - 1], t[k]]))
+
+
+@extractor("turning_circle", "part", "window")
+def turning_circle(ctx, spec, run_id):
+    """A turning circle's figures from a free body's path through the water (ITTC): part =
+    "advance" (distance ahead when the heading has turned 90 degrees), "transfer" (sideways
+    then), "tactical_diameter" (sideways when it has turned 180 degrees), all in L and
+    positive, or "turn_rate" (the heading's rate over the last `window` time units,
+    degrees per L/U, its size)."""
+    part = spec.get("part")
+    t, ahead, starboard, yaw = _horizontal_path(ctx, run_id)
+    if part == "turn_rate":
+        window = float(spec.get("window", 1.0))
+        last = t >= t[-1] - window
+        if np.count_nonzero(last) < 3:
+            raise HarnessError(f"turning_circle: run '{run_id}' has fewer than 3 steps in its last {window:g}")
+        slope = np.polyfit(t[last], np.unwrap(np.radians(yaw[last])), 1)[0]
+        return float(abs(math.degrees(slope)))
+    if part not in ("advance", "transfer", "tactical_diameter"):
+        raise HarnessError(f"turning_circle: part must be advance, transfer, tactical_diameter or turn_rate, got {part!r}")
+    heading = np.degrees(np.unwrap(np.radians(yaw)))
+    level = 180.0 if part == "tactical_diameter" else 90.0
+    when = _first_crossing(t, heading, level)
+    if when is None:
+        raise HarnessError(f"turning_circle: run '{run_id}' turned {np.max(np.abs(heading)):.1f} degrees, "
+                           f"not the {level:g} its {part} needs")
+    return float(abs(np.interp(when, t, ahead if part == "advance" else starboard)))
+
+
+@extractor("zigzag_overshoot", "column", "switch_at", "which")
+def zigzag_overshoot(ctx, spec, run_id):
+    """A zig-zag's overshoot angle (ITTC): how far the attitude (column yaw_deg or
+    pitch_deg of motion.csv, degrees from release) went past `switch_at` after the
+    surface's `which`-th reversal, i.e. its `which`-th extreme beyond the switching angle
+    (an extreme of the attitude whose size exceeds switch_at), less switch_at."""
+    m = _motion(ctx, run_id)
+    column = spec.get("column")
+    if column not in ("yaw_deg", "pitch_deg"):
+        raise HarnessError(f"zigzag_overshoot: column must be yaw_deg or pitch_deg, got {column!r}")
+    switch = float(_need_number(spec, "switch_at", "the switching angle, degrees"))
+    which = int(spec.get("which", 1))
+    a = m[column]
+    rising = np.diff(a)
+    # An extreme: the attitude's rate changes sign (a plateau counts once, at its start).
+    turns = [k for k in range(1, a.size - 1) if rising[k - 1] * rising[k] < 0.0 or (rising[k - 1] != 0.0 and rising[k] == 0.0)]
+    beyond = [a[k] for k in turns if abs(a[k]) > switch]
+    if len(beyond) < which:
+        raise HarnessError(f"zigzag_overshoot: run '{run_id}' has {len(beyond)} extreme(s) of {column} beyond "
+                           f"{switch:g} degrees; the overshoot after reversal {which} needs {which}")
+    return float(abs(beyond[which - 1]) - switch)
+
+
+def _need_number(spec, key, what):
+    if key not in spec:
+        raise HarnessError(f"give `{key}`: {what}")
+    return spec[key]

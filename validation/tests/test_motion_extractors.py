@@ -288,3 +288,57 @@ class RunJsonTables(unittest.TestCase):
             for missing in ("trim.moment", "wall_seconds.x", "ballast"):
                 with self.assertRaisesRegex(HarnessError, "no field"):
                     fn(ctx, {"field": missing}, "run")
+
+
+class Manoeuvres(unittest.TestCase):
+    """A turning circle and zig-zags built of known figures, on a body held in a stream of
+    1 along +x (heading -x at release; starboard is -y, down +z)."""
+    HEADER = Fall.HEADER
+
+    def write(self, d, rows):
+        write_csv(Path(d) / "run" / "motion.csv", self.HEADER, rows)
+
+    def inputs(self):
+        return {"run": {"motion": {"type": "free", "gravity": [0.0, 0.0, 4.59], "origin": [0.46, 0.0, 0.0]},
+                        "bc": {"farfield": {"type": "farfield"}}}}
+
+    def test_a_circle_s_advance_transfer_tactical_diameter_and_rate_come_back(self):
+        radius, rate = 1.7, 0.25  # rad per unit time: 14.3 degrees per L/U
+        rows = []
+        for n, t in enumerate(np.arange(1, 1601) * 0.01):
+            psi = rate * t
+            ahead, starboard = radius * math.sin(psi), radius * (1.0 - math.cos(psi))
+            x, y = 0.46 - ahead + t, -starboard  # through the water, plus the stream's carry
+            rows.append([n + 1, t, x, y, 0.0, 1, 0, 0, 0, 0.0, 0.0, math.degrees(psi)] + [0.0] * 14)
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, rows)
+            ctx, fn = Ctx(d, self.inputs()), EXTRACT["turning_circle"][0]
+            self.assertAlmostEqual(fn(ctx, {"part": "advance"}, "run"), radius, places=4)
+            self.assertAlmostEqual(fn(ctx, {"part": "transfer"}, "run"), radius, places=4)
+            self.assertAlmostEqual(fn(ctx, {"part": "tactical_diameter"}, "run"), 2.0 * radius, places=4)
+            self.assertAlmostEqual(fn(ctx, {"part": "turn_rate", "window": 2.0}, "run"), math.degrees(rate), places=8)
+            # Turned past 360 degrees: the heading unwraps (the yaw column wraps at 180).
+            for r in rows:
+                r[11] = (r[11] + 180.0) % 360.0 - 180.0
+            self.write(d, rows)
+            self.assertAlmostEqual(fn(ctx, {"part": "tactical_diameter"}, "run"), 2.0 * radius, places=4)
+            self.write(d, rows[:500])  # 72 degrees: no tactical diameter yet
+            with self.assertRaisesRegex(HarnessError, "not the 180"):
+                fn(ctx, {"part": "tactical_diameter"}, "run")
+
+    def test_a_zigzag_s_overshoots_are_its_extremes_beyond_the_switching_angle(self):
+        # Heading swinging as 13 sin(t) then 16 sin(t): extremes 13 (first, after the first
+        # reversal at 10) and -16 (second).
+        rows = []
+        for n, t in enumerate(np.arange(1, 701) * 0.01):
+            yaw = (13.0 if t < math.pi else 16.0) * math.sin(t)
+            rows.append([n + 1, t, 0.46, 0, 0, 1, 0, 0, 0, 0.0, 0.0, yaw] + [0.0] * 14)
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, rows)
+            ctx, fn = Ctx(d, self.inputs()), EXTRACT["zigzag_overshoot"][0]
+            self.assertAlmostEqual(fn(ctx, {"column": "yaw_deg", "switch_at": 10.0, "which": 1}, "run"), 3.0, places=3)
+            self.assertAlmostEqual(fn(ctx, {"column": "yaw_deg", "switch_at": 10.0, "which": 2}, "run"), 6.0, places=3)
+            with self.assertRaisesRegex(HarnessError, "reversal 3 needs 3"):
+                fn(ctx, {"column": "yaw_deg", "switch_at": 10.0, "which": 3}, "run")
+            with self.assertRaisesRegex(HarnessError, "column must be"):
+                fn(ctx, {"column": "roll_deg", "switch_at": 10.0}, "run")
