@@ -1,6 +1,8 @@
 #include "config/reader.hpp"
 
+#include <algorithm>
 #include <charconv>
+#include <filesystem>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -58,6 +60,65 @@ void ConfigReader::parse(const std::string& text) {
   } catch (const toml::parse_error& e) {
     fail("{}:{}:{}: TOML syntax error: {}", file_, e.source().begin.line, e.source().begin.column, e.description());
   }
+}
+
+namespace {
+
+void lay_over(toml::table& under, const toml::table& over) {
+  for (const auto& [k, v] : over) {
+    toml::node* existing = under.get(k.str());
+    if (existing && existing->is_table() && v.is_table())
+      lay_over(*existing->as_table(), *v.as_table());
+    else
+      under.insert_or_assign(k.str(), v);
+  }
+}
+
+}  // namespace
+
+std::string ConfigReader::merge_base(const std::string& base_dir) {
+  const toml::node* b = root_.get("base");
+  if (!b) return "";
+  note("base");
+  // Down the chain of bases (each path relative to the directory of the file naming it),
+  // then each file laid over the one below it.
+  std::vector<toml::table> chain;
+  std::vector<std::string> paths;
+  std::filesystem::path dir = base_dir;
+  toml::table over = std::move(root_);
+  for (const toml::node* next = b; next;) {
+    const auto name = next->value<std::string>();
+    if (!name) error("base", "expected a string: the path of the case this one is laid over");
+    const std::filesystem::path path = std::filesystem::path(*name).is_absolute()
+                                           ? std::filesystem::path(*name)
+                                           : dir / *name;
+    const std::string shown = path.lexically_normal().string();
+    if (std::find(paths.begin(), paths.end(), shown) != paths.end() || paths.size() == 4)
+      error("base", fmt::format("the chain of bases through '{}' loops or is deeper than 4", shown));
+    std::ifstream in(path);
+    if (!in) error("base", fmt::format("cannot open '{}'", shown));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    try {
+      chain.push_back(toml::parse(ss.str(), shown));
+    } catch (const toml::parse_error& e) {
+      fail("{}:{}:{}: TOML syntax error: {}", shown, e.source().begin.line, e.source().begin.column, e.description());
+    }
+    paths.push_back(shown);
+    dir = path.parent_path();
+    next = chain.back().get("base");
+  }
+  over.erase("base");
+  root_ = std::move(chain.back());
+  root_.erase("base");
+  for (std::size_t i = chain.size() - 1; i-- > 0;) {
+    chain[i].erase("base");
+    lay_over(root_, chain[i]);
+  }
+  lay_over(root_, over);
+  std::string joined;
+  for (const std::string& p : paths) joined += (joined.empty() ? "" : "\n") + p;
+  return joined;
 }
 
 void ConfigReader::apply_override(const std::string& assignment) {

@@ -41,6 +41,12 @@ class ConfigReader {
   // missing intermediate tables are created. A part may index an array of tables
   // ("grid.patch[2].range_j=[0, 8]"); the table must exist.
   void apply_override(const std::string& assignment);
+  // `base = "other.toml"` (top level; a path relative to `base_dir`): this file's tables
+  // laid over that file's, key by key (a value or an array replaces the base's; tables
+  // merge), so that cases which differ from another in a few tables say only those. A
+  // base may have a base (relative to its own directory), four deep at most. Call before
+  // apply_override. Returns the bases' paths, one per line, or "" without one.
+  std::string merge_base(const std::string& base_dir);
 
   const std::string& file() const { return file_; }
   const std::string& text() const { return text_; }

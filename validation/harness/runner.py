@@ -63,9 +63,41 @@ def case_folder_digest(input_path):
     return h.hexdigest()
 
 
-def effective_input(run):
-    with open(run.input, "rb") as f:
+def _lay_over(under, over):
+    for k, v in over.items():
+        if isinstance(v, dict) and isinstance(under.get(k), dict):
+            _lay_over(under[k], v)
+        else:
+            under[k] = v
+
+
+def case_input(path):
+    """A case file as narwhal reads it: laid over its `base` (config/reader.hpp), which may
+    have a base of its own (relative to its directory), four deep at most."""
+    path = Path(path)
+    with open(path, "rb") as f:
         data = tomllib.load(f)
+    seen = []
+    layers = [data]
+    while "base" in layers[-1]:
+        base_path = Path(os.path.normpath(path.parent / layers[-1].pop("base")))
+        if base_path in seen or len(seen) == 4:
+            raise HarnessError(f"{path}: key 'base': the chain of bases through '{base_path}' loops or is deeper than 4")
+        try:
+            with open(base_path, "rb") as f:
+                layers.append(tomllib.load(f))
+        except OSError as e:
+            raise HarnessError(f"{path}: key 'base': cannot open '{base_path}': {e}")
+        seen.append(base_path)
+        path = base_path
+    merged = layers.pop()
+    while layers:
+        _lay_over(merged, layers.pop())
+    return merged
+
+
+def effective_input(run):
+    data = case_input(run.input)
     for key, literal in run.set.items():
         node = data
         parts = key.split(".")

@@ -168,3 +168,25 @@ class ResumedReport(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class CaseInputsWithABase(unittest.TestCase):
+    def test_a_case_is_laid_over_its_base_as_narwhal_does(self):
+        from harness.errors import HarnessError
+        from harness.runner import case_input
+        d = Path(tempfile.mkdtemp())
+        (d / "base.toml").write_text('[flow]\nreynolds = 1e6\nbeta = 5.0\n[motion]\ngravity = [0.0, 0.0, 1.0]\n')
+        (d / "run.toml").write_text('base = "base.toml"\n[flow]\nreynolds = 2e6\n[time]\nstep = 0.02\n')
+        self.assertEqual(case_input(d / "run.toml"), {"flow": {"reynolds": 2e6, "beta": 5.0},
+                                                      "motion": {"gravity": [0.0, 0.0, 1.0]},
+                                                      "time": {"step": 0.02}})
+        (d / "sub").mkdir()
+        (d / "sub" / "third.toml").write_text('base = "../run.toml"\n[time]\nsteps = 3\n')
+        self.assertEqual(case_input(d / "sub" / "third.toml")["time"], {"step": 0.02, "steps": 3})
+        self.assertEqual(case_input(d / "sub" / "third.toml")["flow"]["beta"], 5.0)
+        (d / "loop.toml").write_text('base = "loop.toml"\n')
+        with self.assertRaisesRegex(HarnessError, "loops"):
+            case_input(d / "loop.toml")
+        (d / "lost.toml").write_text('base = "nowhere.toml"\n')
+        with self.assertRaisesRegex(HarnessError, "cannot open"):
+            case_input(d / "lost.toml")

@@ -60,6 +60,61 @@ TEST(CaseErrors, MisspelledKeySuggestsTheRightOne) {
   EXPECT_NE(e.find("did you mean 'grid.cells_plate'"), std::string::npos) << e;
 }
 
+TEST(CaseBase, ACaseLaidOverABaseSaysOnlyWhatDiffers) {
+  // `base`: the flat plate's case as the base; this one changes its Reynolds number and a
+  // grid count, adds a key, and keeps everything else, overrides applying last.
+  const fs::path dir = test::fresh_temp_dir("narwhal_case_base");
+  {
+    std::ofstream(dir / "plate.toml") << flat_plate_text();
+  }
+  const std::string derived = "base = \"plate.toml\"\n[case]\ntitle = \"derived\"\n[flow]\nreynolds = 2.0e5\n";
+  const CaseConfig plain = parse_case(flat_plate_text(), "plate.toml", dir.string());
+  const CaseConfig c = parse_case(derived, "derived.toml", dir.string());
+  EXPECT_EQ(c.title, "derived");
+  EXPECT_EQ(c.flow.reynolds, 2.0e5);
+  EXPECT_EQ(c.grid.plate.n_plate, plain.grid.plate.n_plate);
+  EXPECT_EQ(c.grid.plate.dy_wall, plain.grid.plate.dy_wall);
+  EXPECT_EQ(c.bcs.size(), plain.bcs.size());
+  EXPECT_EQ(c.solver.max_iterations, plain.solver.max_iterations);
+  EXPECT_NE(c.text.find("# ---- base: "), std::string::npos);  // the restart keeps both texts
+  const CaseConfig o = parse_case(derived, "derived.toml", dir.string(), {"flow.reynolds=3.0e5"});
+  EXPECT_EQ(o.flow.reynolds, 3.0e5);
+  // A base may have a base: the third file over the derived over the plate.
+  {
+    std::ofstream(dir / "derived.toml") << derived;
+  }
+  const CaseConfig third = parse_case("base = \"derived.toml\"\n[solver]\nmax_iterations = 7\n", "third.toml", dir.string());
+  EXPECT_EQ(third.flow.reynolds, 2.0e5);
+  EXPECT_EQ(third.solver.max_iterations, 7);
+  EXPECT_EQ(third.grid.plate.n_plate, plain.grid.plate.n_plate);
+  // A misspelled key of the derived case is named; a missing base, or bases in a loop, too.
+  std::string e;
+  try {
+    (void)parse_case(derived + "[solver]\nmax_iteratons = 3\n", "derived.toml", dir.string());
+  } catch (const Error& x) {
+    e = x.what();
+  }
+  EXPECT_NE(e.find("unknown key 'solver.max_iteratons'"), std::string::npos) << e;
+  e.clear();
+  try {
+    (void)parse_case("base = \"nowhere.toml\"\n", "derived.toml", dir.string());
+  } catch (const Error& x) {
+    e = x.what();
+  }
+  EXPECT_NE(e.find("'base'"), std::string::npos) << e;
+  EXPECT_NE(e.find("nowhere.toml"), std::string::npos) << e;
+  {
+    std::ofstream(dir / "loop.toml") << "base = \"loop.toml\"\n";
+  }
+  e.clear();
+  try {
+    (void)parse_case("base = \"loop.toml\"\n", "third.toml", dir.string());
+  } catch (const Error& x) {
+    e = x.what();
+  }
+  EXPECT_NE(e.find("loops"), std::string::npos) << e;
+}
+
 TEST(CaseErrors, WrongTypeSaysWhatWasExpected) {
   const std::string e = error_of(replace(flat_plate_text(), "reynolds = 1.0e5", "reynolds = \"high\""));
   EXPECT_NE(e.find("flow.reynolds"), std::string::npos) << e;
