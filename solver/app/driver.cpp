@@ -229,7 +229,23 @@ struct StepConvergence {
   int subiterations = 0;
   Real drop = 1.0;             // |R*| / |R*_0| reached (the largest of the mean flow's and each turbulence variable's)
   Real coupling_change = 0.0;  // a free body's last velocity change
+  Real force_change = 1.0;     // the wall forces' last change, relative (TimeConfig::force_change)
 };
+
+// The largest change of any wall group's force or moment coefficient between two
+// measurements, relative to the largest force component of `now` (TimeConfig::force_change).
+Real largest_force_change(const std::map<std::string, ForceCoefficients>& before,
+                          const std::map<std::string, ForceCoefficients>& now) {
+  Real scale = 0.0, change = 0.0;
+  for (const auto& [name, fc] : now) {
+    scale = std::max(scale, fc.force.cwiseAbs().maxCoeff());
+    const auto b = before.find(name);
+    if (b == before.end()) return 1.0;
+    change = std::max({change, (fc.force - b->second.force).cwiseAbs().maxCoeff(),
+                       (fc.moment - b->second.moment).cwiseAbs().maxCoeff()});
+  }
+  return scale > 0.0 ? change / scale : (change > 0.0 ? 1.0 : 0.0);
+}
 
 // One steady run, phase by phase: grids, output directory, restart, solvers, then
 // iterations (step, monitors, convergence, checkpoint) and the final outputs.
@@ -615,7 +631,9 @@ class SteadyRun {
           if (first_turbulence[m] > 0.0) done.drop = std::max(done.drop, t.l2[m] / first_turbulence[m]);
         }
       }
+      const std::map<std::string, ForceCoefficients> before = forces_;
       measure_forces();
+      done.force_change = done.subiterations > 1 ? largest_force_change(before, forces_) : 1.0;
       if (propulsion_) {
         propulsion_->after_subiteration(g_, field_);  // collective
         write_propulsor_row(it);
@@ -635,8 +653,9 @@ class SteadyRun {
                                  solver().describe_largest_residual());
         break;
       }
-      if (done.subiterations >= c_.time.min_subiterations && done.drop < c_.time.subiteration_drop &&
-          motion_coupled(done.coupling_change))
+      const bool settled = done.drop < c_.time.subiteration_drop ||
+                           (c_.time.force_change > 0.0 && done.force_change < c_.time.force_change);
+      if (done.subiterations >= c_.time.min_subiterations && settled && motion_coupled(done.coupling_change))
         break;
     }
     return done;

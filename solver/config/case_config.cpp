@@ -348,6 +348,10 @@ void read_time(const ConfigReader& r, CaseConfig& c) {
                                      "the fewest sub-iterations per step", Range::between(1, 1e6));
   t.max_subiterations = r.integer_or("time.max_subiterations", t.max_subiterations,
                                      "the most sub-iterations per step", Range::between(t.min_subiterations, 1e6));
+  t.force_change = r.number_or("time.force_change", t.force_change,
+                               "the wall forces' change between sub-iterations, relative to their largest "
+                               "component, that also ends a step (0: the residual drop alone)",
+                               Range::between(0.0, 1.0));
   if (c.bulk_velocity > 0.0)
     r.error("time.scheme", "a flow-rate-controlled body force (flow.bulk_velocity) is for steady runs");
 }

@@ -280,6 +280,33 @@ TEST(FreeBodyRun, TrimmedAtReleaseAHeavySphereWithItsWeightAheadStaysAtRest) {
   EXPECT_NEAR(std::abs(j["trim"]["first_moment"].get<Real>()), 1.2 * kVolume * 0.05, 1e-14);
 }
 
+TEST(FreeBodyRun, AStepEndsWhenTheForcesHaveSettledIfTheCaseSaysSo) {
+  // A residual drop the steps cannot reach (1e-12 in at most 30 sub-iterations) against
+  // time.force_change = 1e-4: with it every step ends once the sphere's force changed by
+  // less than 1e-4 of its largest component over its last sub-iteration (history.csv has
+  // every sub-iteration's), and earlier than without.
+  const std::vector<std::string> strict = {"time.subiteration_drop=1e-12", "time.max_subiterations=30",
+                                           "time.steps=3"};
+  std::vector<std::string> settled = strict;
+  settled.emplace_back("time.force_change=1e-4");
+  const fs::path all = test::fresh_temp_dir("narwhal_force_all"), early = test::fresh_temp_dir("narwhal_force_early");
+  ASSERT_EQ(run(released_sphere(1.5), all, strict).status, RunStatus::Completed);
+  ASSERT_EQ(run(released_sphere(1.5), early, settled).status, RunStatus::Completed);
+  const std::vector<Real> its_all = csv_column(all / "steps.csv", "subiterations"),
+                          its = csv_column(early / "steps.csv", "subiterations");
+  ASSERT_EQ(its.size(), 3u);
+  const std::vector<Real> fx = csv_column(early / "history.csv", "body_cfx"), fz = csv_column(early / "history.csv", "body_cfz");
+  std::size_t last = 0;
+  for (std::size_t n = 0; n < 3; ++n) {
+    EXPECT_EQ(its_all[n], 30.0) << "step " << n + 1;
+    EXPECT_LT(its[n], 30.0) << "step " << n + 1;
+    last += static_cast<std::size_t>(its[n]);
+    const Real scale = std::max(std::abs(fx[last - 1]), std::abs(fz[last - 1]));
+    EXPECT_LT(std::max(std::abs(fx[last - 1] - fx[last - 2]), std::abs(fz[last - 1] - fz[last - 2])), 1e-4 * scale)
+        << "step " << n + 1;
+  }
+}
+
 TEST(FreeBodyRun, ARestartContinuesBitForBit) {
   const fs::path whole = test::fresh_temp_dir("narwhal_fall_whole"), part = test::fresh_temp_dir("narwhal_fall_part");
   ASSERT_EQ(run(released_sphere(1.5), whole).status, RunStatus::Completed);
