@@ -73,10 +73,12 @@ PEER_CODES = ("openfoam",)
 # each continuing the one before), side by side.
 # "side_view": a free body's path through the water in the vertical plane (travel against
 # the stream, rise against gravity) with its axis drawn along it, nose marked; `beside`:
-# the same manoeuvre at another time step or on another grid, on the same axes. A
-# time_history also draws motion:rise and motion:travel.
-PICTURE_KINDS = ("surface", "axial", "azimuthal", "friction_lines", "time_history", "wake_strip", "side_view")
-TIME_HISTORY_FILES = ("steps", "motion")
+# the same manoeuvre at another time step or on another grid, on the same axes;
+# "plan_view" the same seen from above (travel, to starboard). A time_history also draws
+# motion:rise and motion:travel, and controls:<column of controls.csv>.
+PICTURE_KINDS = ("surface", "axial", "azimuthal", "friction_lines", "time_history", "wake_strip", "side_view",
+                 "plan_view")
+TIME_HISTORY_FILES = ("steps", "motion", "controls")
 
 
 @dataclass

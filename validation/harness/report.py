@@ -339,27 +339,29 @@ def _frame(pic):
 
 
 def _plot_side_view(rung_dir, pic, path):
-    """A free body's path through the water seen from the side (travel, rise), with its
-    axis drawn every unit of time from nose (dotted) to tail: the body of a unit-length
-    grid from x = 0 to 1 (the SUBOFF grids: nose at x = 0, x_B = -x); `beside`: another
-    run, dashed."""
+    """A free body's path through the water seen from the side (kind side_view: travel,
+    rise) or from above (plan_view: travel, starboard), with its axis drawn every unit of
+    time from nose (dotted) to tail: the body of a unit-length grid from x = 0 to 1 (the
+    SUBOFF grids: nose at x = 0, x_B = -x); `beside`: another run, dashed."""
     frame = _frame(pic)
     origin, stream, down = frame
     ahead = -(stream - (stream @ down) * down)
     ahead /= np.linalg.norm(ahead)
+    across = -down if pic["kind"] == "side_view" else np.cross(down, ahead)  # up, or starboard
     runs = [(r, style) for r, style in ((pic["run"], "-"), (pic.get("beside"), "--"))
             if r and (rung_dir / "runs" / r / "motion.csv").exists()]
     if not runs:
         return False
-    fig, ax = plt.subplots(figsize=(9.0, 3.6))
+    fig, ax = plt.subplots(figsize=(9.0, 3.6) if pic["kind"] == "side_view" else (7.5, 6.5))
     nose = float(origin[0])  # O's distance behind the nose at x = 0
     for n, (run, style) in enumerate(runs):
         m = read_csv(rung_dir / "runs" / run / "motion.csv")
-        _, travel, rise = water_path(m, frame)
+        p, travel, _ = water_path(m, frame)
+        side = p @ across
         colour = ("tab:blue", "tab:orange")[n]
-        ax.plot(travel, rise, style, color=colour, lw=1.2, label=f"Narwhal, {run}: path of O")
+        ax.plot(travel, side, style, color=colour, lw=1.2, label=f"Narwhal, {run}: path of O")
         axis = body_axis(m)
-        a, b = axis @ ahead, -(axis @ down)
+        a, b = axis @ ahead, axis @ across
         last = -1.0
         for k, t in enumerate(m["time"]):
             if t - last < 1.0 - 1e-9:
@@ -367,11 +369,11 @@ def _plot_side_view(rung_dir, pic, path):
             last = t
             tail, front = -(1.0 - nose), nose  # the body from its tail to its nose along x_B, O between
             ax.plot([travel[k] + tail * a[k], travel[k] + front * a[k]],
-                    [rise[k] + tail * b[k], rise[k] + front * b[k]], "-", color=colour, lw=2.2, alpha=0.55)
-            ax.plot([travel[k] + front * a[k]], [rise[k] + front * b[k]], "o", color=colour, ms=3)
+                    [side[k] + tail * b[k], side[k] + front * b[k]], "-", color=colour, lw=2.2, alpha=0.55)
+            ax.plot([travel[k] + front * a[k]], [side[k] + front * b[k]], "o", color=colour, ms=3)
     ax.set_aspect("equal")
     ax.set_xlabel("travel through the water [L]")
-    ax.set_ylabel("rise [L]")
+    ax.set_ylabel("rise [L]" if pic["kind"] == "side_view" else "to starboard [L]")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     _title(ax, pic["title"])
@@ -442,7 +444,7 @@ def _plot_wake_strip(rung_dir, pic, path):
 
 
 def _plot_picture(rung_dir, pic, path):
-    if pic["kind"] == "side_view":
+    if pic["kind"] in ("side_view", "plan_view"):
         return _plot_side_view(rung_dir, pic, path)
     if pic["kind"] == "wake_strip":
         return _plot_wake_strip(rung_dir, pic, path)

@@ -402,7 +402,7 @@ def _picture(p, reference_root, run_input):
     gravity = run_input.get("motion", {}).get("gravity")
     if gravity is not None:
         entry["gravity"] = [float(g) for g in gravity]
-    if p.kind == "side_view" or p.column in ("motion:rise", "motion:travel"):
+    if p.kind in ("side_view", "plan_view") or p.column in ("motion:rise", "motion:travel"):
         try:
             origin, stream, down = free_body_frame(run_input, f"picture of run '{p.run}'")
             entry["frame"] = {"origin": origin.tolist(), "stream": stream.tolist(), "down": down.tolist()}

@@ -271,6 +271,8 @@ class SideView(unittest.TestCase):
             pic = {"kind": "side_view", "run": "coarse", "beside": "fine", "title": "blow", "frame": frame}
             self.assertTrue(report._plot_picture(rung_dir, pic, rung_dir / "side.png"))
             self.assertGreater((rung_dir / "side.png").stat().st_size, 1000)
+            pic = dict(pic, kind="plan_view")
+            self.assertTrue(report._plot_picture(rung_dir, pic, rung_dir / "plan.png"))
             pic = {"kind": "time_history", "run": "fine", "column": "motion:rise", "title": "rise", "frame": frame}
             series = report._time_history(rung_dir, pic)
             self.assertAlmostEqual(float(np.max(series[1])), 0.1, places=6)
