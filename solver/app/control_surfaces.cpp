@@ -34,13 +34,8 @@ VehicleReading read_vehicle(const RigidMotionSample& m) {
 
 ControlSurfaces::ControlSurfaces(const CaseConfig& c, int split_for, int levels, bool pieces)
     : shapes_(c, split_for, levels, pieces),
-      angles_(shapes_.as_built()),
-      previous_(angles_),
-      shaped_(angles_) {
-  if (c.controls) schedule_.emplace(*c.controls);
-  if (c.autopilot) autopilot_.emplace(*c.autopilot);
-  if (c.zigzag) zigzag_.emplace(*c.zigzag);
-}
+      law_(c.controls, c.autopilot, c.zigzag, shapes_.as_built()),
+      shaped_(shapes_.as_built()) {}
 
 bool ControlSurfaces::reshape(const suboff::Deflections& d, RunMotion& motion) {
   if (same(d, shaped_)) return false;
@@ -50,42 +45,13 @@ bool ControlSurfaces::reshape(const suboff::Deflections& d, RunMotion& motion) {
 }
 
 bool ControlSurfaces::start(RunMotion& motion) {
-  if (schedule_) angles_ = schedule_->at(0.0, shapes_.as_built());
-  previous_ = angles_;
-  return reshape(angles_, motion);
+  law_.start();
+  return reshape(law_.angles(), motion);
 }
 
 bool ControlSurfaces::begin_step(Real t_next, Real dt, const VehicleReading& now, RunMotion& motion) {
-  previous_ = angles_;
-  if (schedule_) angles_ = schedule_->at(t_next, angles_);
-  if (autopilot_) angles_ = autopilot_->command(now, dt, angles_);
-  if (zigzag_) angles_ = zigzag_->command(t_next, dt, now, angles_);
-  return reshape(angles_, motion);
-}
-
-std::vector<Real> ControlSurfaces::checkpoint() const {
-  std::vector<Real> v{previous_.rudder, previous_.stern_planes, previous_.sail_planes,
-                      angles_.rudder,   angles_.stern_planes,   angles_.sail_planes};
-  if (autopilot_)
-    for (Real x : autopilot_->checkpoint()) v.push_back(x);
-  if (zigzag_)
-    for (Real x : zigzag_->checkpoint()) v.push_back(x);  // last: its length is fixed
-  return v;
-}
-
-void ControlSurfaces::restore(const std::vector<Real>& v) {
-  if (v.empty())
-    fail("restart: it holds no control-surface state (written by a run without [controls], [autopilot] or [zigzag]); "
-         "a dual-time run that turns its surfaces continues only from its own restarts");
-  const std::size_t zigzag_values = zigzag_ ? zigzag_->checkpoint().size() : 0;
-  if (v.size() < 6 + zigzag_values)
-    fail("restart: its control-surface state has {} values, at least {} expected", v.size(), 6 + zigzag_values);
-  previous_ = {v[0], v[1], v[2]};
-  angles_ = {v[3], v[4], v[5]};
-  const std::vector<Real> pilot(v.begin() + 6, v.end() - static_cast<std::ptrdiff_t>(zigzag_values));
-  if (autopilot_) autopilot_->restore(pilot);
-  else if (!pilot.empty()) fail("restart: it holds an autopilot's state; this case has no [autopilot]");
-  if (zigzag_) zigzag_->restore(std::vector<Real>(v.end() - static_cast<std::ptrdiff_t>(zigzag_values), v.end()));
+  law_.begin_step(t_next, dt, now);
+  return reshape(law_.angles(), motion);
 }
 
 }  // namespace narwhal

@@ -1,9 +1,8 @@
 #pragma once
-// A run's control surfaces turned in time (issue 19): their angles for each physical step,
-// from the case's schedules ([controls], control/control_schedule.hpp) and autopilots
-// ([autopilot], control/autopilot.hpp) and a zig-zag ([zigzag], control/zigzag.hpp), both
-// sampled once per step from the vehicle at the step's start, and, when the angles change, the grids a moving run keeps reshaped to
-// them (app/grid_shapes.hpp, MovingGrid::reshape) before they move to the step's pose.
+// A run's control surfaces turned in time (issue 19): their angles for each physical step
+// from the case's control law (control/control_law.hpp: schedules, autopilots, zig-zag)
+// and, when the angles change, the grids a moving run keeps reshaped to them
+// (app/grid_shapes.hpp, MovingGrid::reshape) before they move to the step's pose.
 // What else depends on where the walls are (the turbulence model's wall distances, the
 // propulsor's disk cells) the caller makes again when a turn says the grids changed.
 #include <memory>
@@ -11,9 +10,7 @@
 
 #include "app/grid_shapes.hpp"
 #include "app/run_motion.hpp"
-#include "control/autopilot.hpp"
-#include "control/control_schedule.hpp"
-#include "control/zigzag.hpp"
+#include "control/control_law.hpp"
 
 namespace narwhal {
 
@@ -30,28 +27,25 @@ class ControlSurfaces {
   // t = 0: the schedules' angles. Returns whether the grids' shapes changed.
   bool start(RunMotion& motion);
   // A step from t^n to t_next = t^n + dt begins with the vehicle at `now`: the angles of
-  // t_next (the schedules' there, the autopilots' from `now`); the grids reshaped when
-  // they changed (the step's move carries them there). Returns whether they did.
+  // t_next (control/control_law.hpp); the grids reshaped when they changed (the step's
+  // move carries them there). Returns whether they did.
   bool begin_step(Real t_next, Real dt, const VehicleReading& now, RunMotion& motion);
-  const suboff::Deflections& angles() const { return angles_; }
-  Real pitch_command() const { return autopilot_ ? autopilot_->pitch_command() : 0.0; }
+  const suboff::Deflections& angles() const { return law_.angles(); }
+  Real pitch_command() const { return law_.pitch_command(); }
 
-  // Restarts: the angles of the last two levels, the autopilots' and the zig-zag's state, as one list;
-  // restore takes it back, then the grids go to level n-1's angles and to level n's.
-  std::vector<Real> checkpoint() const;
-  void restore(const std::vector<Real>& values);
-  bool to_previous_level(RunMotion& motion) { return reshape(previous_, motion); }
-  bool to_present_level(RunMotion& motion) { return reshape(angles_, motion); }
+  // Restarts: the law's state (ControlLaw::checkpoint); restore takes it back, then the
+  // grids go to level n-1's angles and to level n's.
+  std::vector<Real> checkpoint() const { return law_.checkpoint(); }
+  void restore(const std::vector<Real>& values) { law_.restore(values); }
+  bool to_previous_level(RunMotion& motion) { return reshape(law_.previous(), motion); }
+  bool to_present_level(RunMotion& motion) { return reshape(law_.angles(), motion); }
 
  private:
   bool reshape(const suboff::Deflections& d, RunMotion& motion);  // when the grids' shapes differ
 
-  std::optional<ControlSchedule> schedule_;
-  std::optional<Autopilot> autopilot_;
-  std::optional<Zigzag> zigzag_;
   GridShapes shapes_;
-  suboff::Deflections angles_, previous_;  // of t^n (t^{n+1} once a step began) and the level before
-  suboff::Deflections shaped_;             // those the grids' shapes have
+  ControlLaw law_;
+  suboff::Deflections shaped_;  // the angles the grids' shapes have
 };
 
 }  // namespace narwhal

@@ -18,10 +18,6 @@ RigidBodyState body_state_at_release(const Vec3& origin, const Vec3& velocity, c
   return s;
 }
 
-BodyLoads TrimWeights::loads(const Vec3& down_body) const {
-  return {weight * down_body, Vec3(first_moment, 0.0, 0.0).cross(down_body)};
-}
-
 CoupledBody::CoupledBody(const MassProperties& mp, const AccelerationOptions& options, const RigidBodyState& initial,
                          const CouplingSettings& settings, std::vector<BallastChange> ballast, TrimSpec trim)
     : body_(mp, options), settings_(settings), ballast_(std::move(ballast)), trim_(trim), pivot_(initial.position()),
@@ -47,18 +43,7 @@ void CoupledBody::observe_initial_loads(const BodyLoads& flow_earth) {
 }
 
 void CoupledBody::find_trim() {
-  // With gravity along d (body axes), a weight dW at O adds dW d_z to Z and a first moment
-  // s along x_B adds (s e_x x d)_y = -s d_z to M: each cancels its own component of the
-  // loads at release, which are the flow's and the hydrostatics' (TrimSpec).
-  trim_weights_ = {};
-  if (!trim_.any()) return;
-  const Vec3 d = down_body(estimate_);
-  if (std::abs(d.z()) < 0.5)
-    fail("coupled body: trimming by weights needs gravity within 60 degrees of z_B at release, it is {} degrees off",
-         std::acos(std::clamp(std::abs(d.z()), 0.0, 1.0)) * 180.0 / std::numbers::pi);
-  const BodyLoads at_release = f_latest_ + body_.hydrostatic_loads(estimate_);
-  if (trim_.heave) trim_weights_.weight = -at_release.force.z() / d.z();
-  if (trim_.pitch) trim_weights_.first_moment = at_release.moment.y() / d.z();
+  trim_weights_ = trim_.any() ? trim_at_release(trim_, body_, estimate_, f_latest_) : TrimWeights{};
 }
 
 RigidBodyStep CoupledBody::rk4_pass(const BodyLoads& f_next) {

@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "motion/ballast.hpp"
+#include "motion/trim.hpp"
 #include "motion/grid_motion.hpp"
 #include "motion/rk4.hpp"
 
@@ -50,26 +51,6 @@ namespace narwhal {
 struct CouplingSettings {
   Real relaxation = 1.0;  // omega_b
   Real tolerance = 1e-6;  // on the velocities' change per correction
-};
-
-// Trimmed at release: a manoeuvre starts from straight and level flight, so the loads the
-// body feels at t = 0 (the flow's, the propulsor's, weight and buoyancy; not the ballast
-// changes the manoeuvre makes) are balanced, as a crew trims a submarine: in heave by a
-// weight added at O (water taken into a trim tank there, dW > 0, or pumped out), in pitch
-// by water moved between trim tanks fore and aft (a couple: its weight's first moment
-// along x_B, s = sum dW_i x_i). Both then act as weights, turning with gravity in body
-// axes. The mass matrix stays the case's (as for ballast: motion/ballast.hpp).
-struct TrimSpec {
-  bool heave = false;
-  bool pitch = false;
-  bool any() const { return heave || pitch; }
-};
-
-struct TrimWeights {
-  Real weight = 0.0;        // dW added at O
-  Real first_moment = 0.0;  // s, along x_B
-  // Their loads with gravity along `down_body` (unit, body axes), about O.
-  BodyLoads loads(const Vec3& down_body) const;
 };
 
 // The state of a body whose axes are grid_axes.hpp's, O at `origin` (grid
