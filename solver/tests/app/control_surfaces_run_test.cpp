@@ -111,9 +111,8 @@ TEST(ControlSurfaces, TheVehicleReadingIsTheTurnSinceReleaseAndItsEulerRates) {
   EXPECT_EQ(r.depth_rate, 0.05);
 }
 
-// The small appended grid yawing to and fro (a prescribed oscillation of 2 degrees), its
-// rudders under a heading autopilot holding 0.
-std::string yawing_under_autopilot() {
+// The small appended grid yawing to and fro: a prescribed oscillation of 2 degrees.
+std::string yawing() {
   return std::string(test::kSmallAppendedCase) + kTwoSteps + R"(
 [motion]
 type = "prescribed"
@@ -123,6 +122,12 @@ dof = "yaw"
 amplitude = 2.0
 angular_frequency = 40.0
 phase = 30.0
+)";
+}
+
+// Yawing, its rudders under a heading autopilot holding 0.
+std::string yawing_under_autopilot() {
+  return yawing() + R"(
 [autopilot]
 heading = 0.0
 [autopilot.heading_loop]
@@ -161,15 +166,7 @@ TEST(ControlSurfacesRun, AHeadingAutopilotTurnsTheRuddersAgainstTheYawAndRestart
 // heading, the first deflection to starboard's side (-1: trailing edges to starboard,
 // driving the heading up).
 std::string yawing_in_a_zigzag() {
-  return std::string(test::kSmallAppendedCase) + kTwoSteps + R"(
-[motion]
-type = "prescribed"
-pivot = [0.5, 0.0, 0.0]
-[[motion.oscillation]]
-dof = "yaw"
-amplitude = 2.0
-angular_frequency = 40.0
-phase = 30.0
+  return yawing() + R"(
 [zigzag]
 surface = "rudder"
 angle = 5.0
