@@ -50,8 +50,10 @@ def oscillation_force(ctx, spec, run_id):
         raise HarnessError(f"steps.csv of '{run_id}' has no column '{column}' (columns: {', '.join(steps)})")
     t = steps["time"]
     window = t >= t[-1] - periods * 2.0 * math.pi / omega - 1e-12 * t[-1]
-    if t[-1] * omega / (2.0 * math.pi) < periods + 1.0 or np.count_nonzero(window) < 8 * periods:
-        raise HarnessError(f"oscillation_force: run '{run_id}' covers {t[-1] * omega / (2 * math.pi):.2f} periods in "
+    # 1e-9: a step written to 14 digits ends a whole number of periods a rounding short.
+    covered = t[-1] * omega / (2.0 * math.pi)
+    if covered < (periods + 1.0) * (1.0 - 1e-9) or np.count_nonzero(window) < 8 * periods:
+        raise HarnessError(f"oscillation_force: run '{run_id}' covers {covered:.2f} periods in "
                            f"{t.size} steps; the fit needs {periods:g} after the first, 8 steps or more each")
     # Displacement amplitude sin(w t + phase): velocity and acceleration.
     u = amplitude * omega * np.cos(omega * t[window] + phase)

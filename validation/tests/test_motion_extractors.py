@@ -45,11 +45,11 @@ class OscillationForce(unittest.TestCase):
                                    "oscillation": [{"dof": "x", "amplitude": self.AMPLITUDE,
                                                     "angular_frequency": self.OMEGA, "phase": -90.0}]}}}
 
-    def write(self, d, drag_ratio, mass_ratio, periods=4):
+    def write(self, d, drag_ratio, mass_ratio, periods=4, step_rounding=1.0):
         R, w, A = 0.5, self.OMEGA, self.AMPLITUDE
         a = drag_ratio * 6 * math.pi * R / self.RE
         b = mass_ratio * 0.5 * 4 / 3 * math.pi * R ** 3
-        t = np.linspace(0, periods * 2 * math.pi / w, 48 * periods + 1)[1:]
+        t = np.linspace(0, periods * 2 * math.pi / w * step_rounding, 48 * periods + 1)[1:]
         u, du = A * w * np.sin(w * t), A * w * w * np.cos(w * t)  # phase -90: displacement -A cos(w t)
         force = -(a * u + b * du) + 0.3 + 5.0 * np.exp(-t * w)  # a constant and a start-up transient
         write_csv(Path(d) / "run" / "steps.csv", ["step", "time", "subiterations", "drop", "body_cfx", "body_cfy"],
@@ -68,6 +68,13 @@ class OscillationForce(unittest.TestCase):
             self.write(d, 6.0, 1.9, periods=2)
             with self.assertRaisesRegex(HarnessError, "periods"):
                 EXTRACT["oscillation_force"][0](Ctx(d, self.inputs()), {"part": "drag", "periods": 2}, "run")
+
+    def test_a_step_written_short_by_its_last_digit_still_covers_its_periods(self):
+        # A case file's step 2 pi / (48 w) written to 14 digits ends three periods 6e-14 short.
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, 6.0, 1.9, periods=3, step_rounding=1.0 - 5e-14)
+            value = EXTRACT["oscillation_force"][0](Ctx(d, self.inputs()), {"part": "drag", "periods": 2}, "run")
+            self.assertAlmostEqual(value, 6.0, delta=2e-3)
 
     def test_a_rotation_is_not_a_translational_oscillation(self):
         inputs = self.inputs()
