@@ -14,11 +14,6 @@
 
 namespace narwhal {
 
-// What the autopilots read of a vehicle in rigid motion m (pivot: its origin as built):
-// depth along the grid's +z (NUMERICS §0.1: z_B down; body axes at release
-// grid_axes.hpp's), the Euler angles of its turn since release and their rates.
-VehicleReading read_vehicle(const RigidMotionSample& m);
-
 class ControlSurfaces {
  public:
   // `split_for`, `levels`, `pieces`: the run's grids, as GridShapes takes them.

@@ -10,6 +10,7 @@
 #include <fmt/ranges.h>
 
 #include "app/driver.hpp"
+#include "app/simulate.hpp"
 #include "core/error.hpp"
 #include "io/cgns_writer.hpp"
 #include "io/openfoam_writer.hpp"
@@ -166,6 +167,15 @@ int main(int argc, char** argv) {
   grid->add_option("--openfoam", grid_openfoam,
                    "also write the grid as an OpenFOAM case's constant/polyMesh under this directory");
 
+  std::string simulate_path, model_path, simulate_out = "simulation";
+  auto* simulate_cmd = app.add_subcommand(
+      "simulate", "fly a case's manoeuvre with a manoeuvring model instead of the flow: writes motion.csv, controls.csv");
+  simulate_cmd->add_option("case", simulate_path, "case file (TOML) with a free [motion] and [time]")->required();
+  simulate_cmd->add_option("--model,-m", model_path, "the manoeuvring model (TOML: [coefficients], [propulsion])")
+      ->required();
+  simulate_cmd->add_option("--out,-o", simulate_out, "output directory")->capture_default_str();
+  simulate_cmd->add_option("--set", overrides, "override a case key (value in TOML syntax)");
+
   auto* list_models = app.add_subcommand("list-models", "list the turbulence models (turbulence.model = \"name\")");
 
   try {
@@ -188,6 +198,12 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*check) return check_case(check_path, overrides);
+    if (*simulate_cmd) {
+      const SimulationSummary s =
+          simulate(load_case(simulate_path, overrides), load_manoeuvring_model(model_path), simulate_out);
+      fmt::print("narwhal: simulated {} steps in {:.2f} s: {}/motion.csv\n", s.steps, s.seconds, simulate_out);
+      return 0;
+    }
     if (*grid) return grid_case(grid_path, overrides, grid_out, grid_openfoam);
     if (*partition) return partition_case(partition_path, overrides, ranks);
     RunOptions opt;

@@ -6,18 +6,6 @@
 
 namespace narwhal {
 
-namespace {
-
-// The water's velocity far from the vehicle: the far field's (or inflow's) velocity, the
-// free stream when the case gives none.
-Vec3 far_water_velocity(const CaseConfig& c) {
-  for (const auto& [label, bc] : c.bcs)
-    if (bc.type == BcType::Farfield || bc.type == BcType::Inflow) return bc.velocity;
-  return c.free_stream;
-}
-
-}  // namespace
-
 PropulsionControl::PropulsionControl(const CaseConfig& c, const Grid& g)
     : propulsor_(std::make_shared<BodyForcePropulsor>(c.propulsor->spec, c.propulsor->curve)),
       reference_area_(c.output.reference_area),

@@ -871,6 +871,12 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   return c;
 }
 
+Vec3 far_water_velocity(const CaseConfig& c) {
+  for (const auto& [label, bc] : c.bcs)
+    if (bc.type == BcType::Farfield || bc.type == BcType::Inflow) return bc.velocity;
+  return c.free_stream;
+}
+
 CaseConfig load_case(const std::string& path, const std::vector<std::string>& overrides) {
   ConfigReader probe(path);  // reads the file and reports syntax errors with the path
   const std::string base = std::filesystem::path(path).parent_path().string();

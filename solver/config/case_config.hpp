@@ -164,6 +164,10 @@ struct CaseConfig {
 
 // `overrides` are "dotted.key=value" assignments applied on top of the file.
 CaseConfig load_case(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// The water's velocity far from a vehicle: the far field's (or inflow's) velocity, the
+// free stream when the case gives none.
+Vec3 far_water_velocity(const CaseConfig& c);
 CaseConfig parse_case(const std::string& text, const std::string& display_name, const std::string& base_dir,
                       const std::vector<std::string>& overrides = {});
 

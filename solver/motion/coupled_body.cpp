@@ -111,15 +111,17 @@ Real CoupledBody::correct(const BodyLoads& flow_earth) {
   return (estimate_.y.head<6>() - before.head<6>()).cwiseAbs().maxCoeff();
 }
 
-RigidMotionSample CoupledBody::sample(const RigidBodyState& s) const {
+RigidMotionSample motion_sample(const RigidBodyState& s, const Mat3& initial_rotation, const Vec3& pivot) {
   const Mat3 r = rotation_matrix(s.attitude());
   RigidMotionSample m;
-  m.pose.rotation = r * initial_rotation_.transpose();
-  m.pose.displacement = Vec3(s.position()) - pivot_;
+  m.pose.rotation = r * initial_rotation.transpose();
+  m.pose.displacement = Vec3(s.position()) - pivot;
   m.velocity = r * Vec3(s.velocity());
   m.angular_velocity = r * Vec3(s.angular_velocity());
   return m;
 }
+
+RigidMotionSample CoupledBody::sample(const RigidBodyState& s) const { return motion_sample(s, initial_rotation_, pivot_); }
 
 EulerAngles CoupledBody::turn_since_release(const RigidBodyState& s) const {
   return euler_from_quaternion(quaternion_from_rotation(initial_rotation_.transpose() * rotation_matrix(s.attitude())));

@@ -57,6 +57,10 @@ struct CouplingSettings {
 // coordinates), moving with `velocity` and turning with `angular_velocity` (grid axes).
 RigidBodyState body_state_at_release(const Vec3& origin, const Vec3& velocity, const Vec3& angular_velocity);
 
+// The grid's pose (from as built), its pivot's velocity and its angular velocity in grid
+// axes, for a body in state `s` whose axes at release were `initial_rotation`, O then at `pivot`.
+RigidMotionSample motion_sample(const RigidBodyState& s, const Mat3& initial_rotation, const Vec3& pivot);
+
 class CoupledBody {
  public:
   // The body in state `initial` (body_state_at_release: the grid as built is its pose).
