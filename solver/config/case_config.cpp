@@ -652,18 +652,13 @@ void read_motion(const ConfigReader& r, CaseConfig& c) {
 CaseConfig parse_case(const std::string& text, const std::string& display_name, const std::string& base_dir,
                       const std::vector<std::string>& overrides) {
   ConfigReader r(text, display_name);
-  const std::string base = r.merge_base(base_dir);
+  const std::vector<ConfigReader::BaseFile> bases = r.merge_base(base_dir);
   for (const auto& o : overrides) r.apply_override(o);
   CaseConfig c;
   c.file = display_name;
   c.text = text;
-  std::istringstream bases(base);  // the restart keeps every file's text (provenance)
-  for (std::string path; std::getline(bases, path);) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    c.text += "\n# ---- base: " + path + " ----\n" + ss.str();
-  }
+  for (const ConfigReader::BaseFile& b : bases)  // the restart keeps every file's text (provenance)
+    c.text += "\n# ---- base: " + b.path + " ----\n" + b.text;
   c.title = r.string_or("case.title", "untitled", "a one-line description");
   read_grid(r, base_dir, c.grid);
 

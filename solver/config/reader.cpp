@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -41,12 +42,25 @@ std::string Range::describe() const {
   return "finite";
 }
 
-ConfigReader::ConfigReader(const std::string& path) : file_(path) {
+namespace {
+
+// The text of a regular file, or nothing when `path` is not one or cannot be read.
+std::optional<std::string> regular_file_text(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
   std::ifstream in(path);
-  if (!in) fail("cannot open case file '{}'", path);
+  if (!in) return std::nullopt;
   std::stringstream ss;
   ss << in.rdbuf();
-  parse(ss.str());
+  return ss.str();
+}
+
+}  // namespace
+
+ConfigReader::ConfigReader(const std::string& path) : file_(path) {
+  const std::optional<std::string> text = regular_file_text(path);
+  if (!text) fail("cannot open case file '{}': not a readable regular file", path);
+  parse(*text);
 }
 
 ConfigReader::ConfigReader(const std::string& text, const std::string& display_name) : file_(display_name) {
@@ -76,14 +90,14 @@ void lay_over(toml::table& under, const toml::table& over) {
 
 }  // namespace
 
-std::string ConfigReader::merge_base(const std::string& base_dir) {
+std::vector<ConfigReader::BaseFile> ConfigReader::merge_base(const std::string& base_dir) {
   const toml::node* b = root_.get("base");
-  if (!b) return "";
+  if (!b) return {};
   note("base");
   // Down the chain of bases (each path relative to the directory of the file naming it),
   // then each file laid over the one below it.
   std::vector<toml::table> chain;
-  std::vector<std::string> paths;
+  std::vector<BaseFile> bases;
   std::filesystem::path dir = base_dir;
   toml::table over = std::move(root_);
   for (const toml::node* next = b; next;) {
@@ -93,18 +107,17 @@ std::string ConfigReader::merge_base(const std::string& base_dir) {
                                            ? std::filesystem::path(*name)
                                            : dir / *name;
     const std::string shown = path.lexically_normal().string();
-    if (std::find(paths.begin(), paths.end(), shown) != paths.end() || paths.size() == 4)
+    const auto seen = [&](const BaseFile& f) { return f.path == shown; };
+    if (std::any_of(bases.begin(), bases.end(), seen) || bases.size() == 4)
       error("base", fmt::format("the chain of bases through '{}' loops or is deeper than 4", shown));
-    std::ifstream in(path);
-    if (!in) error("base", fmt::format("cannot open '{}'", shown));
-    std::stringstream ss;
-    ss << in.rdbuf();
+    std::optional<std::string> text = regular_file_text(path);
+    if (!text) error("base", fmt::format("cannot open '{}': expected a readable regular file", shown));
     try {
-      chain.push_back(toml::parse(ss.str(), shown));
+      chain.push_back(toml::parse(*text, shown));
     } catch (const toml::parse_error& e) {
       fail("{}:{}:{}: TOML syntax error: {}", shown, e.source().begin.line, e.source().begin.column, e.description());
     }
-    paths.push_back(shown);
+    bases.push_back({shown, std::move(*text)});
     dir = path.parent_path();
     next = chain.back().get("base");
   }
@@ -116,9 +129,7 @@ std::string ConfigReader::merge_base(const std::string& base_dir) {
     lay_over(root_, chain[i]);
   }
   lay_over(root_, over);
-  std::string joined;
-  for (const std::string& p : paths) joined += (joined.empty() ? "" : "\n") + p;
-  return joined;
+  return bases;
 }
 
 void ConfigReader::apply_override(const std::string& assignment) {

@@ -33,7 +33,8 @@ struct Range {
 
 class ConfigReader {
  public:
-  // Parses `path`; a syntax error is reported with its line and column.
+  // Parses `path` (a regular file: a device or a pipe would be read without end); a syntax
+  // error is reported with its line and column.
   explicit ConfigReader(const std::string& path);
   ConfigReader(const std::string& text, const std::string& display_name);
 
@@ -45,8 +46,11 @@ class ConfigReader {
   // laid over that file's, key by key (a value or an array replaces the base's; tables
   // merge), so that cases which differ from another in a few tables say only those. A
   // base may have a base (relative to its own directory), four deep at most. Call before
-  // apply_override. Returns the bases' paths, one per line, or "" without one.
-  std::string merge_base(const std::string& base_dir);
+  // apply_override. Returns the bases as read, nearest first (none without one).
+  struct BaseFile {
+    std::string path, text;
+  };
+  std::vector<BaseFile> merge_base(const std::string& base_dir);
 
   const std::string& file() const { return file_; }
   const std::string& text() const { return text_; }

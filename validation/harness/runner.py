@@ -83,6 +83,8 @@ def case_input(path):
         base_path = Path(os.path.normpath(path.parent / layers[-1].pop("base")))
         if base_path in seen or len(seen) == 4:
             raise HarnessError(f"{path}: key 'base': the chain of bases through '{base_path}' loops or is deeper than 4")
+        if not base_path.is_file():  # a device would be read without end
+            raise HarnessError(f"{path}: key 'base': cannot open '{base_path}': expected a regular file")
         try:
             with open(base_path, "rb") as f:
                 layers.append(tomllib.load(f))

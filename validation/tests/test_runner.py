@@ -190,3 +190,6 @@ class CaseInputsWithABase(unittest.TestCase):
         (d / "lost.toml").write_text('base = "nowhere.toml"\n')
         with self.assertRaisesRegex(HarnessError, "cannot open"):
             case_input(d / "lost.toml")
+        (d / "device.toml").write_text('base = "/dev/zero"\n')
+        with self.assertRaisesRegex(HarnessError, "regular file"):
+            case_input(d / "device.toml")

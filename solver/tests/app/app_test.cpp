@@ -106,6 +106,24 @@ TEST(CaseBase, ACaseLaidOverABaseSaysOnlyWhatDiffers) {
   }
   e = error_in("base = \"loop.toml\"\n");
   EXPECT_NE(e.find("loops"), std::string::npos) << e;
+  // A device or a directory as the base is refused, not read without end.
+  for (const char* other : {"/dev/zero", "."}) {
+    e = error_in(fmt::format("base = \"{}\"\n", other));
+    EXPECT_NE(e.find("'base'"), std::string::npos) << e;
+    EXPECT_NE(e.find("regular file"), std::string::npos) << e;
+  }
+}
+
+TEST(CaseErrors, ACaseFileThatIsNoRegularFileIsRefused) {
+  for (const char* other : {"/dev/zero", "/tmp"}) {
+    try {
+      (void)load_case(other, {});
+      ADD_FAILURE() << other << " was read as a case";
+    } catch (const Error& x) {
+      EXPECT_NE(std::string(x.what()).find(other), std::string::npos) << x.what();
+      EXPECT_NE(std::string(x.what()).find("regular file"), std::string::npos) << x.what();
+    }
+  }
 }
 
 TEST(CaseErrors, WrongTypeSaysWhatWasExpected) {
