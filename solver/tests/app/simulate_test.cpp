@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/LU>
 #include <fmt/format.h>
 
 #include "app/simulate.hpp"
 #include "core/error.hpp"
+#include "manoeuvring/linear_turn.hpp"
 #include "test_support.hpp"
 
 namespace narwhal {
@@ -51,15 +51,7 @@ CaseConfig still_water(const std::string& text, const std::vector<std::string>& 
 
 ManoeuvringModel linear_model() {
   ManoeuvringModel m;
-  ManoeuvringCoefficients& c = m.coefficients;
-  c.Yv = -0.03;
-  c.Yr = 0.008;
-  c.Nv = -0.01;
-  c.Nr = -0.005;
-  c.Ydr = 0.012;
-  c.Ndr = -0.006;
-  c.Yvdot = -0.016;
-  c.Nrdot = -0.0009;
+  m.coefficients = test::linear_turning_coefficients();
   return m;
 }
 
@@ -78,10 +70,7 @@ angles = [0.0, 10.0]
   ASSERT_EQ(r.size(), 6000u);
   // Surge held at 1 through still water: m u r = Y, 0 = N (as the model's own test).
   const Real dr = 10.0 * std::acos(-1.0) / 180.0;
-  const ManoeuvringCoefficients& k = m.coefficients;
-  Eigen::Matrix2d a;
-  a << 0.5 * k.Yv, 0.5 * k.Yr - kMass, 0.5 * k.Nv, 0.5 * k.Nr;
-  const Eigen::Vector2d steady = a.inverse() * Eigen::Vector2d(-0.5 * k.Ydr * dr, -0.5 * k.Ndr * dr);
+  const Eigen::Vector2d steady = test::linear_steady_turn(m.coefficients, kMass, dr);
   EXPECT_NEAR(r.back(), steady[1], 1e-6 * std::abs(steady[1]));
   EXPECT_NEAR(motion.at("v").back(), steady[0], 1e-6 * std::abs(steady[0]));
   // The rudder's angle in controls.csv, degrees.
@@ -110,27 +99,24 @@ centre_of_gravity = [0.01, 0.0, 0.005]
   }
 }
 
-TEST(Simulate, ModelFileMistakesAreNamed) {
+// The error loading a model file of `text`, or "" when it loads.
+std::string model_error(const std::string& text) {
   const fs::path dir = test::fresh_temp_dir("narwhal_simulate_model");
-  {
-    std::ofstream(dir / "model.toml") << "[coefficients]\nYv = -0.03\nNvdt = 0.1\n";
-  }
+  std::ofstream(dir / "model.toml") << text;
   try {
     (void)load_manoeuvring_model((dir / "model.toml").string());
-    ADD_FAILURE() << "a misspelled coefficient was accepted";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("coefficients.Nvdt"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("coefficients.Nvdot"), std::string::npos) << e.what();
+    return e.what();
   }
-  {
-    std::ofstream(dir / "model.toml") << "[coefficients]\nYv = -0.03\n[propulsion]\nwake_fraction = 0.2\n";
-  }
-  try {
-    (void)load_manoeuvring_model((dir / "model.toml").string());
-    ADD_FAILURE() << "a propulsion table without its rotation rate was accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("propulsion.rps"), std::string::npos) << e.what();
-  }
+  return "";
+}
+
+TEST(Simulate, ModelFileMistakesAreNamed) {
+  std::string e = model_error("[coefficients]\nYv = -0.03\nNvdt = 0.1\n");
+  EXPECT_NE(e.find("coefficients.Nvdt"), std::string::npos) << "a misspelled coefficient: " << e;
+  EXPECT_NE(e.find("coefficients.Nvdot"), std::string::npos) << e;
+  e = model_error("[coefficients]\nYv = -0.03\n[propulsion]\nwake_fraction = 0.2\n");
+  EXPECT_NE(e.find("propulsion.rps"), std::string::npos) << "a propulsion table without its rotation rate: " << e;
 }
 
 }  // namespace

@@ -6,9 +6,8 @@
 
 #include <cmath>
 
+#include "manoeuvring/linear_turn.hpp"
 #include "manoeuvring/manoeuvring_model.hpp"
-#include <Eigen/LU>
-
 #include "motion/rk4.hpp"
 
 namespace narwhal {
@@ -68,17 +67,8 @@ TEST(ManoeuvringModel, AccelerationDerivativesMakeTheAddedMass) {
 }
 
 TEST(ManoeuvringModel, ALinearModelSettlesIntoTheLinearSteadyTurn) {
-  // Surge held at u = 1 (no gravity): in a steady turn m u r = Y and 0 = N, so
-  //   [Y'v / 2, Y'r / 2 - m; N'v / 2, N'r / 2] (v, r) = -(Y'dr, N'dr) dr / 2.
-  ManoeuvringCoefficients c;
-  c.Yv = -0.03;
-  c.Yr = 0.008;
-  c.Nv = -0.01;
-  c.Nr = -0.005;
-  c.Ydr = 0.012;
-  c.Ndr = -0.006;
-  c.Yvdot = -0.016;
-  c.Nrdot = -0.0009;
+  // Surge held at u = 1, no gravity (linear_turn.hpp).
+  const ManoeuvringCoefficients c = test::linear_turning_coefficients();
   MassProperties mp;
   mp.mass = 0.0085;
   mp.inertia_o = Vec3(1.5e-5, 4.85e-4, 4.85e-4).asDiagonal();
@@ -96,9 +86,7 @@ TEST(ManoeuvringModel, ALinearModelSettlesIntoTheLinearSteadyTurn) {
   RigidBodyState s = RigidBodyState::at_rest(Vec3::Zero(), EulerAngles{});
   s.velocity()[0] = 1.0;
   for (int n = 0; n < 6000; ++n) s = advance_rk4(body, s, n * 0.01, 0.01, BodyLoads{}, BodyLoads{}, loads).state;
-  Eigen::Matrix2d a;
-  a << 0.5 * c.Yv, 0.5 * c.Yr - mp.mass, 0.5 * c.Nv, 0.5 * c.Nr;
-  const Eigen::Vector2d steady = a.inverse() * (Eigen::Vector2d(-0.5 * c.Ydr * dr, -0.5 * c.Ndr * dr));
+  const Eigen::Vector2d steady = test::linear_steady_turn(c, mp.mass, dr);
   // By t = 60 the transient has decayed below 1e-7 of the turn.
   EXPECT_NEAR(s.velocity()[1], steady[0], 1e-7 * std::abs(steady[0]));
   EXPECT_NEAR(s.angular_velocity()[2], steady[1], 1e-7 * std::abs(steady[1]));
