@@ -12,6 +12,7 @@ from . import body  # noqa: F401  (registers recirculation_length, surface_taps)
 from . import captive  # noqa: F401  (registers sweep_coefficient, sweep_derivative, sweep_oddness)
 from . import duct  # noqa: F401  (registers duct_flow)
 from . import motion  # noqa: F401  (registers oscillation_force)
+from . import pmm  # noqa: F401  (registers pmm_derivative)
 from . import propulsor  # noqa: F401  (registers propulsor_momentum_balance, slipstream_peak)
 from . import settings  # noqa: F401  (registers settings_differing)
 from .compare import Curve, Family
