@@ -30,6 +30,8 @@ class Run:
                               # solution.cgns on the same grid it starts from)
     ranks: int = 0            # MPI ranks (mpirun); 0: validation/run --ranks (default 1)
     code: str = "narwhal"     # or a peer code on the same case and grid (PEER_CODES)
+    model: str = ""           # a [[model]]'s id: `narwhal simulate` flies the case with it (after the
+                              # rung's other runs, whose results the model is assembled from)
 
 
 @dataclass
@@ -40,6 +42,17 @@ class Sweep:
     variable: str        # the dotted case key swept, passed as narwhal --set
     values: tuple
     run_ids: tuple
+
+
+@dataclass
+class Model:
+    """A manoeuvring model assembled from the rung's runs (solver/manoeuvring/DESIGN.md):
+    each coefficient ([coefficients], ManoeuvringCoefficients' names; absent ones are 0) and
+    each [propulsion] value (rps, wake_fraction, thrust_deduction) is an extractor's result,
+    written to the model file `narwhal simulate` reads (which names a misspelled key)."""
+    id: str
+    coefficients: dict   # name -> extractor spec
+    propulsion: dict     # name -> extractor spec
 
 
 @dataclass
@@ -118,6 +131,7 @@ class Rung:
     pictures: list
     reported: list = field(default_factory=list)
     sweeps: list = field(default_factory=list)
+    models: list = field(default_factory=list)
 
 
 class _Reader:
@@ -285,10 +299,15 @@ def load_rung(path):
                         restart_from=r.get("restart_from", str, "the id of the run to continue", default=""),
                         ranks=r.get("ranks", int, "a number of MPI ranks", default=0),
                         code=r.get("code", str, "narwhal or a peer code (" + ", ".join(PEER_CODES) + ")",
-                                   default="narwhal")))
+                                   default="narwhal"),
+                        model=r.get("model", str, "the id of a [[model]] to fly the case with", default="")))
         if runs[-1].code not in ("narwhal",) + PEER_CODES:
             raise HarnessError(f"{path}: key 'run[{i}].code': unknown code {runs[-1].code!r}; valid: narwhal, "
                                + ", ".join(PEER_CODES))
+        if runs[-1].model and (runs[-1].code != "narwhal" or runs[-1].restart_from or runs[-1].ranks
+                               or runs[-1].max_iterations or runs[-1].family):
+            raise HarnessError(f"{path}: run '{rid}': a run flown by a model (model = ...) takes no code, "
+                               "restart_from, ranks, max_iterations or family")
         if runs[-1].code != "narwhal" and runs[-1].max_iterations <= 0:
             raise HarnessError(f"{path}: run '{rid}': a peer run needs max_iterations (its iteration count)")
         r.finish()
@@ -299,7 +318,13 @@ def load_rung(path):
         raise HarnessError(f"{path}: run ids must be unique (a sweep's are <sweep id>_<value>), got {ids}")
     if len({x.id for x in sweeps}) != len(sweeps):
         raise HarnessError(f"{path}: sweep ids must be unique, got {[x.id for x in sweeps]}")
+    models = _read_models(top, path)
     for x in runs:
+        if x.model and x.model not in [m.id for m in models]:
+            raise HarnessError(f"{path}: run '{x.id}': model names unknown [[model]] '{x.model}'; models: "
+                               + (", ".join(m.id for m in models) or "none"))
+        if x.restart_from and x.restart_from in ids and runs[ids.index(x.restart_from)].model:
+            raise HarnessError(f"{path}: run '{x.id}': restart_from names '{x.restart_from}', a run flown by a model")
         if x.family and x.h != "cells" and x.h <= 0.0:
             raise HarnessError(f"{path}: run '{x.id}' is in family '{x.family}' but has no positive 'h'")
         if x.restart_from and x.restart_from not in ids:
@@ -382,7 +407,32 @@ def load_rung(path):
         pictures.append(pic)
     top.finish()
     return Rung(name=path.parent.name, title=title, directory=path.parent, tiers=tiers, timeout_s=timeout,
-                runs=runs, checks=checks, pictures=pictures, reported=reported, sweeps=sweeps)
+                runs=runs, checks=checks, pictures=pictures, reported=reported, sweeps=sweeps, models=models)
+
+
+def _read_models(top, path):
+    models = []
+    for i, t in enumerate(top.get("model", list, "an array of [[model]] tables", default=[])):
+        r = _Reader(path, t, f"model[{i}].")
+        m = Model(id=r.get("id", str, "a model id", required=True),
+                  coefficients=r.get("coefficients", dict, "a table: coefficient name -> extractor", required=True),
+                  propulsion=r.get("propulsion", dict, "a table: rps, wake_fraction, thrust_deduction -> extractor",
+                                   default={}))
+        for table, specs in (("coefficients", m.coefficients), ("propulsion", m.propulsion)):
+            for name, spec in specs.items():
+                where = f"model[{i}].{table}.{name}"
+                if not isinstance(spec, dict):
+                    raise HarnessError(f"{path}: key '{where}': expected an extractor table {{kind = ...}} "
+                                       f"(every value comes from the rung's runs), got {spec!r}")
+                try:
+                    check_extract(spec, where)
+                except HarnessError as e:
+                    raise HarnessError(f"{path}: {e}")
+        r.finish()
+        models.append(m)
+    if len({m.id for m in models}) != len(models):
+        raise HarnessError(f"{path}: model ids must be unique, got {[m.id for m in models]}")
+    return models
 
 
 def discover(cases_dir):

@@ -110,8 +110,10 @@ def effective_input(run):
 
 
 def _ordered(runs):
+    """Runs after those they restart from; runs flown by a model after every other run (the
+    model is assembled from their results)."""
     done, out = set(), []
-    pending = list(runs)
+    pending = [r for r in runs if not r.model] + [r for r in runs if r.model]
     while pending:
         for r in pending:
             if not r.restart_from or r.restart_from in done:
@@ -182,7 +184,11 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1, resume=False):
         rd = out_dir / "runs" / r.id
         rd.mkdir(parents=True, exist_ok=True)
         remaining = rung.timeout_s - (time.monotonic() - started)
-        if r.code == "narwhal":
+        if r.model:
+            model = next(m for m in rung.models if m.id == r.model)
+            info = _run_simulation(r, rd, model, Context(rung, run_dirs, inputs, root / "reference_data"),
+                                   narwhal, remaining)
+        elif r.code == "narwhal":
             key = _run_key(r, rd, r.ranks or ranks, narwhal, out_dir, root)
             info = (_recorded_run(rd, key) if resume else None) or \
                 _run_narwhal(r, rd, r.ranks or ranks, narwhal, out_dir, remaining, key,
@@ -333,6 +339,45 @@ def _run_narwhal(r, rd, n, narwhal, out_dir, remaining, key=None, continue_run=F
     if key is not None and info.get("exit_code") in REUSABLE:
         (rd / RUN_RECORD).write_text(json.dumps({"key": key, "info": info}, indent=1))
         (rd / RUN_STARTED).unlink(missing_ok=True)
+    return info
+
+
+def model_file_text(model, ctx):
+    """The model file (solver/app/simulate.hpp) with each value the result of its extractor
+    on the rung's runs, and the extractor beside it."""
+    lines = [f"# Manoeuvring model '{model.id}', assembled by the harness from the runs of rung '{ctx.rung.name}'."]
+    for table, specs in (("coefficients", model.coefficients), ("propulsion", model.propulsion)):
+        if not specs:
+            continue
+        lines.append(f"[{table}]")
+        for name, spec in specs.items():
+            try:
+                value = float(extract(ctx, spec))
+            except (TypeError, ValueError):
+                raise HarnessError(f"model '{model.id}': {table}.{name}: its extractor gives no number")
+            except HarnessError as e:
+                raise HarnessError(f"model '{model.id}': {table}.{name}: {e}")
+            lines.append(f"{name} = {value!r}   # {json.dumps(spec)}")
+    return "\n".join(lines) + "\n"
+
+
+def _run_simulation(r, rd, model, ctx, narwhal, remaining):
+    """`narwhal simulate` on the run's case with the model assembled from the runs before it."""
+    info = {"id": r.id, "code": "narwhal simulate", "log": f"runs/{r.id}/narwhal.log", "ranks": 1}
+    try:
+        (rd / "model.toml").write_text(model_file_text(model, ctx))
+    except HarnessError as e:
+        return dict(info, status="input error", message=str(e))
+    cmd = [str(narwhal), "simulate", str(r.input), "--model", str(rd / "model.toml"), "--out", str(rd)] + _overrides(r)
+    info["command"] = " ".join(cmd)
+    try:
+        with open(rd / "narwhal.log", "w") as log:
+            proc = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, timeout=max(remaining, 1.0))
+        info["exit_code"] = proc.returncode
+        info["status"] = "completed" if proc.returncode == 0 else EXIT_MEANING.get(proc.returncode,
+                                                                                   f"crashed (exit {proc.returncode})")
+    except subprocess.TimeoutExpired:
+        info["status"] = "timeout"
     return info
 
 

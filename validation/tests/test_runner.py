@@ -10,6 +10,7 @@ from pathlib import Path
 import support  # noqa: F401
 
 from harness.casefile import load_rung
+from harness.errors import HarnessError
 from test_casefile import GOOD
 from harness.runner import built_with_mpi, run_rung
 
@@ -193,3 +194,80 @@ class CaseInputsWithABase(unittest.TestCase):
         (d / "device.toml").write_text('base = "/dev/zero"\n')
         with self.assertRaisesRegex(HarnessError, "regular file"):
             case_input(d / "device.toml")
+
+
+def simulating_narwhal(directory):
+    """counting_narwhal's runs, and `simulate CASE --model M --out D`, which copies the model
+    file M it was given to D/model_seen.toml; every command goes to runs.log."""
+    exe = Path(directory) / "narwhal"
+    exe.write_text(textwrap.dedent(f"""\
+        #!/bin/sh
+        [ "$1" = --version ] && echo 'narwhal 0.1.0 (abc, no MPI)' && exit 0
+        echo "$@" >> "{directory}/runs.log"
+        what="$1"; out=""; model=""
+        while [ $# -gt 0 ]; do
+          [ "$1" = --out ] && out="$2"
+          [ "$1" = --model ] && model="$2"
+          shift
+        done
+        mkdir -p "$out"
+        if [ "$what" = simulate ]; then cp "$model" "$out/model_seen.toml"; exit 0; fi
+        echo '{{"status": "converged", "iterations": 7, "provenance": {{"compiler": "c", "flags": "f", "version": "v"}}}}' > "$out/run.json"
+        exit 0
+        """))
+    exe.chmod(exe.stat().st_mode | stat.S_IXUSR)
+    return exe
+
+
+# The model run is listed first: it must still run after the run its model is made of.
+MODELLED = GOOD.replace('''[[run]]
+id = "a"''', '''[[run]]
+id = "flown"
+input = "in.toml"
+model = "m"
+set = { "time.steps" = 5 }
+
+[[model]]
+id = "m"
+coefficients = { Yv = { kind = "run_json", run = "a", field = "iterations" } }
+
+[[run]]
+id = "a"''')
+
+
+class ModelledRuns(unittest.TestCase):
+    def setUp(self):
+        self.dir = Path(tempfile.mkdtemp())
+        self.case = self.dir / "r"
+        self.case.mkdir()
+        (self.case / "in.toml").write_text("")
+
+    def rung(self, text):
+        (self.case / "case.toml").write_text(textwrap.dedent(text))
+        return load_rung(self.case / "case.toml")
+
+    def test_a_model_made_of_the_runs_results_is_flown_after_them(self):
+        exe = simulating_narwhal(self.dir)
+        res = run_rung(self.rung(MODELLED), "quick", exe, self.dir / "out", self.dir)
+        commands = (self.dir / "runs.log").read_text().splitlines()
+        self.assertTrue(commands[0].startswith("run "), commands)
+        self.assertTrue(commands[1].startswith("simulate "), commands)
+        self.assertIn("--set time.steps=5", commands[1])
+        seen = (self.dir / "out" / "runs" / "flown" / "model_seen.toml").read_text()
+        self.assertIn("[coefficients]\nYv = 7.0", seen)
+        self.assertEqual([r["status"] for r in res["runs"]], ["converged", "completed"])
+
+    def test_a_model_whose_value_cannot_be_extracted_stops_the_rung(self):
+        exe = simulating_narwhal(self.dir)
+        text = MODELLED.replace('field = "iterations" } }', 'field = "no_such_field" } }')
+        res = run_rung(self.rung(text), "quick", exe, self.dir / "out", self.dir)
+        self.assertEqual(res["status"], "crashed")
+        self.assertIn("coefficients.Yv", res["runs"][1]["message"])
+
+    def test_unknown_models_and_literal_values_are_refused(self):
+        with self.assertRaisesRegex(HarnessError, "unknown \\[\\[model\\]\\] 'n'"):
+            self.rung(MODELLED.replace('model = "m"', 'model = "n"'))
+        with self.assertRaisesRegex(HarnessError, "model\\[0\\].coefficients.Yv.*extractor table"):
+            self.rung(MODELLED.replace('Yv = { kind = "run_json", run = "a", field = "iterations" }', "Yv = -0.03"))
+        with self.assertRaisesRegex(HarnessError, "takes no"):
+            self.rung(MODELLED.replace('model = "m"', 'model = "m"\nranks = 2'))
