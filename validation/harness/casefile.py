@@ -222,8 +222,8 @@ def _input_and_overrides(r, path, table):
 def _read_sweeps(top, path, tiers):
     """The [[sweep]] tables and the runs they expand into. A sweep with `like = "<id>"`
     repeats an earlier sweep (its input, variable, overrides, tiers, ranks, iteration
-    limit) with its own values and the overrides it adds: the same captive setup on
-    another grid is one line, not a copy."""
+    limit, the run it continues) with its own values and the overrides it adds: the same
+    captive setup on another grid is one line, not a copy."""
     sweeps, runs, setups = [], [], {}
     for i, t in enumerate(top.get("sweep", list, "an array of [[sweep]] tables", default=[])):
         r = _Reader(path, t, f"sweep[{i}].")
@@ -235,7 +235,7 @@ def _read_sweeps(top, path, tiers):
             raise HarnessError(f"{path}: key 'sweep[{i}].like': expected the id of an earlier sweep "
                                f"({', '.join(setups) or 'none'}), got {like!r}")
         base = setups.get(like, {"input": None, "variable": None, "set": {}, "tiers": tuple(tiers),
-                                 "max_iterations": 0, "ranks": 0})
+                                 "max_iterations": 0, "ranks": 0, "restart_from": ""})
         if like and "input" not in t:
             inp, sets = base["input"], {**base["set"]}
             sets.update({k: _literal(v) for k, v in r.get("set", dict, "a table of overrides", default={}).items()})
@@ -258,14 +258,17 @@ def _read_sweeps(top, path, tiers):
         setup = {"input": inp, "variable": variable, "set": sets,
                  "tiers": _tiers(r, "tiers", base["tiers"], "a list of tiers"),
                  "max_iterations": r.get("max_iterations", int, "an iteration limit", default=base["max_iterations"]),
-                 "ranks": r.get("ranks", int, "a number of MPI ranks", default=base["ranks"])}
+                 "ranks": r.get("ranks", int, "a number of MPI ranks", default=base["ranks"]),
+                 "restart_from": r.get("restart_from", str, "the id of the run every point continues",
+                                       default=base["restart_from"])}
         r.finish()
         setups[sid] = setup
         ids = tuple(sweep_run_id(sid, v) for v in values)
         sweeps.append(Sweep(id=sid, variable=variable, values=values, run_ids=ids))
         for rid, v in zip(ids, values):
             runs.append(Run(id=rid, input=inp, tiers=setup["tiers"], set={**sets, variable: _literal(v)},
-                            max_iterations=setup["max_iterations"], ranks=setup["ranks"]))
+                            max_iterations=setup["max_iterations"], ranks=setup["ranks"],
+                            restart_from=setup["restart_from"]))
     return sweeps, runs
 
 

@@ -33,6 +33,8 @@ PLANES = {"Y": "vr", "N": "vr", "Z": "wq", "M": "wq"}
 # C'rdot r'dot (by |C'v| psi_0^2 / (3 w'^2) at most) and C'r errs by O(psi_0^2) relative:
 # pure yaw runs keep psi_0 small and take Y'v, N'v from a drift sweep or a pure sway run.
 NEGLIGIBLE = 1e-2
+# The largest condition number of the fit's columns (scaled to unit length) accepted.
+MAX_CONDITION = 100.0
 
 
 def _derivative_name(name):
@@ -193,5 +195,12 @@ def pmm_derivative(ctx, spec, run_id):
                            f"{', '.join(varied)}): {component}{variable} cannot be fitted from it")
     names = list(varied)
     design = np.column_stack([np.ones(tw.size)] + [varied[n] for n in names])
+    # A velocity in phase with an acceleration (a heave with the pitch turned the wrong way:
+    # w with q'dot) leaves the fit to the measurement's noise: refused.
+    scaled = design / np.linalg.norm(design, axis=0)
+    if np.linalg.cond(scaled) > MAX_CONDITION:
+        raise HarnessError(f"pmm_derivative: {whose}'s {', '.join(names)} cannot be told apart (in phase with each "
+                           "other): a planar-motion run varies a velocity (pure sway, heave) or a rotation with the "
+                           "heading along the path (pure yaw, pitch)")
     solution, *_ = np.linalg.lstsq(design, value, rcond=None)
     return float(solution[1 + names.index(variable)])

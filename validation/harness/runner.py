@@ -160,12 +160,12 @@ def ranks_needed(rung, tier, ranks=1):
     return max([r.ranks or ranks for r in rung.runs if tier in r.tiers], default=1)
 
 
-def run_rung(rung, tier, narwhal, out_dir, root, ranks=1, resume=False):
+def run_rung(rung, tier, narwhal, out_dir, root, ranks=1, resume=False, simulator=None):
     """Runs the rung's runs of `tier`, then its checks. With `resume`, a Narwhal run whose folder
     holds the record of a finished run of the same command, case folder and solver sources
     (RUN_RECORD, written after each run) is not run again, and one that was interrupted goes on
     from the restart it wrote (RUN_STARTED): a nightly report can be built up over several
-    sittings, however long its runs."""
+    sittings, however long its runs. Runs flown by a model use `simulator` (default: narwhal)."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     started = time.monotonic()
@@ -187,7 +187,7 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1, resume=False):
         if r.model:
             model = next(m for m in rung.models if m.id == r.model)
             info = _run_simulation(r, rd, model, Context(rung, run_dirs, inputs, root / "reference_data"),
-                                   narwhal, remaining)
+                                   simulator or narwhal, remaining)
         elif r.code == "narwhal":
             key = _run_key(r, rd, r.ranks or ranks, narwhal, out_dir, root)
             info = (_recorded_run(rd, key) if resume else None) or \

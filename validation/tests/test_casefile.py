@@ -161,6 +161,12 @@ class RungFiles(unittest.TestCase):
         self.assertIn("unknown key 'sweep[0].value'", self.error(GOOD + sweep + "value = 1\n"))
         self.assertIn("run ids must be unique", self.error(GOOD.replace('id = "a"', 'id = "drift_0"') + sweep))
         self.assertIn("sweep ids must be unique", self.error(GOOD + sweep + sweep.replace("[-4, 0, 2.5]", "[8]")))
+        # Every point may continue one run's restart (a converged start); like repeats it.
+        continued = sweep + 'restart_from = "a"\n'
+        rung = load_rung(self.write(GOOD + continued + '\n[[sweep]]\nid = "again"\nlike = "drift"\nvalues = [6]\n'))
+        self.assertEqual({r.id: r.restart_from for r in rung.runs if r.id != "a"},
+                         {"drift_m4": "a", "drift_0": "a", "drift_2p5": "a", "again_6": "a"})
+        self.assertIn("restart_from names unknown run 'b'", self.error(GOOD + sweep + 'restart_from = "b"\n'))
 
     def test_a_sweep_like_another_repeats_its_setup_with_its_own_values_and_added_overrides(self):
         sweep = ('\n[[sweep]]\nid = "drift"\ninput = "in.toml"\nvariable = "flow.drift_angle"\n'

@@ -95,15 +95,16 @@ class HorizontalPlane(unittest.TestCase):
 
 class VerticalPlane(unittest.TestCase):
     def test_pure_pitch_gives_the_vertical_rotary_derivatives(self):
-        # Pitch theta about the grid's y: y_B = -y, so q = -theta_dot; heave z = a sin(w t)
-        # with theta = -a w cos(w t) keeps w = 0 to O(theta_0^3).
+        # Pitch theta about the grid's y: y_B = -y, so q = -theta_dot; through the water at
+        # (-1, 0, z_dot), w = -sin(theta) + z_dot cos(theta): heave z = a sin(w t) with
+        # theta = a w cos(w t) keeps w = 0 to O(theta_0^3).
         Z = {"q": -0.007, "qdot": -0.0003}
         M = {"q": -0.003, "qdot": -0.0008}
         a = 0.04
         t = times()
-        theta = -a * OMEGA * np.cos(OMEGA * t)
-        theta_dot = a * OMEGA ** 2 * np.sin(OMEGA * t)
-        q, q_dot = -theta_dot, -a * OMEGA ** 3 * np.cos(OMEGA * t)
+        theta = a * OMEGA * np.cos(OMEGA * t)
+        theta_dot = -a * OMEGA ** 2 * np.sin(OMEGA * t)
+        q, q_dot = -theta_dot, a * OMEGA ** 3 * np.cos(OMEGA * t)
         # R_y(theta) e_x = (cos, 0, -sin); body x_B = -R e_x, y_B = -R e_y = -e_y, z_B = R e_z = (sin, 0, cos).
         axes = np.array([[[-math.cos(h), 0.0, math.sin(h)], [0.0, -1.0, 0.0], [math.sin(h), 0.0, math.cos(h)]]
                          for h in theta])
@@ -112,10 +113,14 @@ class VerticalPlane(unittest.TestCase):
         zero = np.zeros_like(t)
         with tempfile.TemporaryDirectory() as d:
             write_steps(d, t, np.column_stack([zero, zero, heave]), np.column_stack([zero, pitch, zero]), axes)
-            inputs = run_input([("z", a, 0.0), ("pitch", math.degrees(a * OMEGA), -90.0)])
+            inputs = run_input([("z", a, 0.0), ("pitch", math.degrees(a * OMEGA), 90.0)])
             for name, expected in (("Zq", Z["q"]), ("Zqdot", Z["qdot"]), ("Mq", M["q"]), ("Mqdot", M["qdot"])):
                 self.assertAlmostEqual(fit(d, inputs, name), expected, delta=2 * (a * OMEGA) ** 2 * abs(expected),
                                        msg=name)
+            # The pitch the other way round: w = 2 a w cos(w t), in phase with q'dot, so the
+            # two cannot be told apart in a measured force.
+            with self.assertRaisesRegex(HarnessError, "cannot be told apart"):
+                fit(d, run_input([("z", a, 0.0), ("pitch", math.degrees(a * OMEGA), -90.0)]), "Zq")
 
 
 class Refusals(unittest.TestCase):

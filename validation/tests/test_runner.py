@@ -257,6 +257,15 @@ class ModelledRuns(unittest.TestCase):
         self.assertIn("[coefficients]\nYv = 7.0", seen)
         self.assertEqual([r["status"] for r in res["runs"]], ["converged", "completed"])
 
+    def test_a_simulator_given_apart_flies_the_model(self):
+        exe = simulating_narwhal(self.dir)
+        (self.dir / "later").mkdir()
+        later = simulating_narwhal(self.dir / "later")
+        run_rung(self.rung(MODELLED), "quick", exe, self.dir / "out", self.dir, simulator=later)
+        self.assertEqual([c.split()[0] for c in (self.dir / "runs.log").read_text().splitlines()], ["run"])
+        self.assertEqual([c.split()[0] for c in (self.dir / "later" / "runs.log").read_text().splitlines()],
+                         ["simulate"])
+
     def test_a_model_whose_value_cannot_be_extracted_stops_the_rung(self):
         exe = simulating_narwhal(self.dir)
         text = MODELLED.replace('field = "iterations" } }', 'field = "no_such_field" } }')
