@@ -175,7 +175,7 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
   if (scale != 1.0) a = scaled(a, scale);
 }
 
-void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g) {
+void read_grid(const ConfigReader& r, GridConfig& g) {
   g.type = r.string("grid.type",
                     "one of flat_plate, box, perturbed_box, body_of_revolution, appended_suboff, plot3d, cgns");
   if (g.type == "flat_plate") {
@@ -278,9 +278,8 @@ void read_grid(const ConfigReader& r, const std::string& base_dir, GridConfig& g
     g.perturbed_amplitude = r.number_or("grid.amplitude", g.perturbed_amplitude, "the sinusoidal perturbation amplitude",
                                         Range::between(-0.2, 0.2));
   } else if (g.type == "plot3d" || g.type == "cgns") {
-    const std::string f = r.string("grid.file", fmt::format("the {} grid file (relative to the case file)",
-                                                             g.type == "cgns" ? "CGNS" : "Plot3D"));
-    g.grid_file = std::filesystem::path(f).is_absolute() ? f : (std::filesystem::path(base_dir) / f).string();
+    g.grid_file = r.file_path("grid.file", fmt::format("the {} grid file (relative to the case file)",
+                                                        g.type == "cgns" ? "CGNS" : "Plot3D"));
     const std::size_t n = r.array_size("grid.patch");
     for (std::size_t i = 0; i < n; ++i) {
       const std::string pre = fmt::format("grid.patch[{}].", i);
@@ -660,7 +659,7 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   for (const ConfigReader::BaseFile& b : bases)  // the restart keeps every file's text (provenance)
     c.text += "\n# ---- base: " + b.path + " ----\n" + b.text;
   c.title = r.string_or("case.title", "untitled", "a one-line description");
-  read_grid(r, base_dir, c.grid);
+  read_grid(r, c.grid);
 
   auto& f = c.flow;
   f.reynolds = r.number("flow.reynolds", "Re = U L / nu", Range::positive());
@@ -682,7 +681,7 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                                 Range::at_least(0));
   if (c.bulk_velocity > 0.0 && c.body_force.norm() == 0.0)
     r.error("flow.bulk_velocity", "needs flow.body_force for the direction and first estimate of the force");
-  c.propulsor = read_propulsor(r, base_dir);
+  c.propulsor = read_propulsor(r);
   c.manufactured = r.boolean_or("flow.manufactured_solution", false, "whether to run the §12.2 manufactured solution");
   if (c.manufactured) c.mms.nu = 1.0 / f.reynolds;
 

@@ -9,10 +9,6 @@
 namespace narwhal {
 namespace {
 
-std::string relative_to(const std::string& base_dir, const std::string& f) {
-  return std::filesystem::path(f).is_absolute() ? f : (std::filesystem::path(base_dir) / f).string();
-}
-
 // A file the curve is read from, with the key named in any error it gives.
 template <class Make>
 std::shared_ptr<const OpenWaterCurve> curve_from(const ConfigReader& r, const std::string& key, Make make) {
@@ -25,7 +21,7 @@ std::shared_ptr<const OpenWaterCurve> curve_from(const ConfigReader& r, const st
 
 }  // namespace
 
-std::optional<PropulsorConfig> read_propulsor(const ConfigReader& r, const std::string& base_dir) {
+std::optional<PropulsorConfig> read_propulsor(const ConfigReader& r) {
   if (!r.has("propulsor")) return std::nullopt;
   PropulsorConfig p;
   PropulsorSpec& s = p.spec;
@@ -36,10 +32,10 @@ std::optional<PropulsorConfig> read_propulsor(const ConfigReader& r, const std::
             "give one open-water curve: propulsor.open_water (a table of J, KT and KQ or 10KQ) or "
             "propulsor.wageningen (the B-series coefficient table, with pitch_ratio, area_ratio and blades)");
   if (table) {
-    const std::string f = relative_to(base_dir, r.string("propulsor.open_water", "the open-water table (CSV)"));
+    const std::string f = r.file_path("propulsor.open_water", "the open-water table (CSV)");
     p.curve = curve_from(r, "propulsor.open_water", [&] { return std::make_shared<OpenWaterTable>(Table::read(f)); });
   } else {
-    const std::string f = relative_to(base_dir, r.string("propulsor.wageningen", "the B-series coefficient table (CSV)"));
+    const std::string f = r.file_path("propulsor.wageningen", "the B-series coefficient table (CSV)");
     const Real pd = r.number("propulsor.pitch_ratio", "the pitch ratio P/D at 0.7 R", Range::between(0.5, 1.4));
     const Real ae = r.number("propulsor.area_ratio", "the expanded blade-area ratio Ae/A0", Range::between(0.30, 1.05));
     const int z = r.integer("propulsor.blades", "the number of blades", Range::between(2, 7));

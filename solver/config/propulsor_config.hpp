@@ -20,7 +20,8 @@ struct PropulsorConfig {
   std::optional<RpmControlSettings> rpm_control;
 };
 
-// Nothing without a [propulsor] table. Paths are relative to the case file's folder.
-std::optional<PropulsorConfig> read_propulsor(const ConfigReader& r, const std::string& base_dir);
+// Nothing without a [propulsor] table. Paths are relative to the folder of the file that
+// gives them (ConfigReader::file_path).
+std::optional<PropulsorConfig> read_propulsor(const ConfigReader& r);
 
 }  // namespace narwhal

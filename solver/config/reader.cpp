@@ -90,7 +90,23 @@ void lay_over(toml::table& under, const toml::table& over) {
 
 }  // namespace
 
+namespace {
+
+// Every key reached through tables of `t` (arrays are leaves), dotted, under `prefix`.
+void collect_keys(const toml::table& t, const std::string& prefix, std::vector<std::string>& out) {
+  for (const auto& [k, v] : t) {
+    const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    if (v.is_table())
+      collect_keys(*v.as_table(), key, out);
+    else
+      out.push_back(key);
+  }
+}
+
+}  // namespace
+
 std::vector<ConfigReader::BaseFile> ConfigReader::merge_base(const std::string& base_dir) {
+  base_dir_ = base_dir;
   const toml::node* b = root_.get("base");
   if (!b) return {};
   note("base");
@@ -122,12 +138,19 @@ std::vector<ConfigReader::BaseFile> ConfigReader::merge_base(const std::string& 
     next = chain.back().get("base");
   }
   over.erase("base");
-  root_ = std::move(chain.back());
-  root_.erase("base");
-  for (std::size_t i = chain.size() - 1; i-- > 0;) {
+  // Which folder each key's file lies in, the nearest file that sets it winning.
+  for (std::size_t i = chain.size(); i-- > 0;) {
     chain[i].erase("base");
-    lay_over(root_, chain[i]);
+    std::vector<std::string> keys;
+    collect_keys(chain[i], "", keys);
+    const std::string folder = std::filesystem::path(bases[i].path).parent_path().string();
+    for (const std::string& k : keys) folder_of_[k] = folder.empty() ? "." : folder;
   }
+  std::vector<std::string> own;
+  collect_keys(over, "", own);
+  for (const std::string& k : own) folder_of_.erase(k);
+  root_ = std::move(chain.back());
+  for (std::size_t i = chain.size() - 1; i-- > 0;) lay_over(root_, chain[i]);
   lay_over(root_, over);
   return bases;
 }
@@ -137,6 +160,7 @@ void ConfigReader::apply_override(const std::string& assignment) {
   if (eq == std::string::npos || eq == 0) fail("{}: override '{}': expected key=value", file_, assignment);
   std::string key = assignment.substr(0, eq);
   key.erase(key.find_last_not_of(' ') + 1);
+  folder_of_.erase(key);  // an override's file names are the case's (relative to its folder)
   toml::table parsed;
   try {
     parsed = toml::parse("v = " + assignment.substr(eq + 1));
@@ -250,6 +274,13 @@ std::string ConfigReader::string(const std::string& key, const std::string& what
   if (!n) error(key, "missing required key (expected " + what + ")");
   if (auto v = n->value<std::string>()) return *v;
   error(key, std::string("expected ") + what + " (a string), got " + type_name(*n));
+}
+
+std::string ConfigReader::file_path(const std::string& key, const std::string& what) const {
+  const std::string f = string(key, what);
+  if (std::filesystem::path(f).is_absolute()) return f;
+  const auto from = folder_of_.find(key);
+  return (std::filesystem::path(from == folder_of_.end() ? base_dir_ : from->second) / f).string();
 }
 
 std::string ConfigReader::string_or(const std::string& key, const std::string& fallback,

@@ -3,6 +3,7 @@
 // parsing, keys nobody asked for are reported (with the nearest known key as a
 // suggestion). All errors name the file, the dotted key and what was expected.
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -63,6 +64,10 @@ class ConfigReader {
   int integer(const std::string& key, const std::string& what, const Range& range) const;
   int integer_or(const std::string& key, int fallback, const std::string& what, const Range& range) const;
   std::string string(const std::string& key, const std::string& what) const;
+  // A string naming a file: relative to the folder of the file that set the key (a base's
+  // own folder for a key the case takes from its base; the case's for its own keys and
+  // for --set overrides).
+  std::string file_path(const std::string& key, const std::string& what) const;
   std::string string_or(const std::string& key, const std::string& fallback, const std::string& what) const;
   bool boolean_or(const std::string& key, bool fallback, const std::string& what) const;
   // `count` finite numbers, each inside `range`.
@@ -95,6 +100,8 @@ class ConfigReader {
   std::string file_, text_;
   toml::table root_;
   mutable std::set<std::string> known_;
+  std::string base_dir_ = ".";                      // the case file's folder (merge_base)
+  std::map<std::string, std::string> folder_of_;    // dotted key -> folder of the base that set it
 };
 
 // Levenshtein distance, for "did you mean" suggestions.

@@ -106,6 +106,22 @@ TEST(CaseBase, ACaseLaidOverABaseSaysOnlyWhatDiffers) {
   }
   e = error_in("base = \"loop.toml\"\n");
   EXPECT_NE(e.find("loops"), std::string::npos) << e;
+  // A file a base names is found beside the base, wherever the case laid over it lies; a
+  // file the case names (or an override) beside the case.
+  fs::create_directories(dir / "tables");
+  fs::create_directories(dir / "cases");
+  fs::copy_file(test::source_path("reference_data/propulsor/dtmb4119_open_water_openprop.csv"), dir / "tables" / "curve.csv",
+                fs::copy_options::overwrite_existing);
+  {
+    std::ofstream(dir / "tables" / "propelled.toml")
+        << flat_plate_text()
+        << "[propulsor]\nopen_water = \"curve.csv\"\ndiameter = 0.06\nhub_ratio = 0.21\nthickness = 0.012\n"
+           "centre = [0.987, 0.0, 0.0]\nrps = 16.0\n";
+  }
+  const CaseConfig beside_base = parse_case("base = \"../tables/propelled.toml\"\n", "c.toml", (dir / "cases").string());
+  ASSERT_TRUE(beside_base.propulsor.has_value());
+  e = error_in("base = \"tables/propelled.toml\"\n[propulsor]\nopen_water = \"curve.csv\"\n");
+  EXPECT_NE(e.find("propulsor.open_water"), std::string::npos) << "the case's own name is the case's: " << e;
   // A device or a directory as the base is refused, not read without end.
   for (const char* other : {"/dev/zero", "."}) {
     e = error_in(fmt::format("base = \"{}\"\n", other));
