@@ -102,6 +102,13 @@ def _points(ctx, spec, against):
     return sweep, np.array(x), np.array(y)
 
 
+@extractor("run_coefficient", "component", "groups", "length")
+def run_coefficient(ctx, spec, run_id):
+    """One run's coefficient (a manoeuvring model's Z'_0, M'_0 and X'_uu from the straight
+    run of a sweep)."""
+    return coefficient(ctx, run_id, _choice(spec, "component", COMPONENTS), _groups(spec), spec.get("length"))
+
+
 @extractor("sweep_coefficient", "sweep", "component", "groups", "length")
 def sweep_coefficient(ctx, spec, run_id):
     """The coefficient against the swept variable (its own values, e.g. degrees)."""

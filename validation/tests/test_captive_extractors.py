@@ -72,6 +72,13 @@ class CaptiveSweeps(unittest.TestCase):
         for b, y in zip(curve.x, curve.y):
             self.assertAlmostEqual(y, side_force(b), places=15)
 
+    def test_one_run_s_coefficient_is_its_groups_sum(self):
+        value = extract(self.context(), {"kind": "run_coefficient", "run": "drift_4", "component": "N",
+                                         "groups": ["body", "sail"]})
+        self.assertAlmostEqual(value, 0.5 * side_force(4.0), places=15)
+        with self.assertRaises(HarnessError):
+            extract(self.context(), {"kind": "run_coefficient", "run": "drift_4", "component": "Q", "groups": ["body"]})
+
     def test_the_derivative_against_v_is_the_linear_term_with_the_cubics_scatter_as_its_error(self):
         ctx = self.context()
         spec = {"kind": "sweep_derivative", "sweep": "drift", "component": "Y", "groups": ["body", "sail"],
