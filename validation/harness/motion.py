@@ -10,12 +10,29 @@ from .schema import extractor
 TRANSLATIONS = ("x", "y", "z")
 
 
-def _steps(ctx, run_id):
+def run_table(ctx, run_id, name):
+    """A dual-time run's per-step table `name` (steps.csv, motion.csv), refused when empty."""
     from .extract import read_csv  # the one CSV reader (extract imports this module)
-    t = read_csv(ctx.run_dir(run_id) / "steps.csv")
+    t = read_csv(ctx.run_dir(run_id) / name)
     if t["time"].size == 0:
-        raise HarnessError(f"steps.csv of '{run_id}' has no rows")
+        raise HarnessError(f"{name} of '{run_id}' has no rows")
     return t
+
+
+def _steps(ctx, run_id):
+    return run_table(ctx, run_id, "steps.csv")
+
+
+def last_periods(t, omega, periods, whose):
+    """The rows of times t within the last `periods` periods 2 pi / omega; refused unless the
+    run covers one period more (the start-up transient's) and 8 steps a period."""
+    window = t >= t[-1] - periods * 2.0 * math.pi / omega - 1e-12 * t[-1]
+    # 1e-9: a step written to 14 digits ends a whole number of periods a rounding short.
+    covered = t[-1] * omega / (2.0 * math.pi)
+    if covered < (periods + 1.0) * (1.0 - 1e-9) or np.count_nonzero(window) < 8 * periods:
+        raise HarnessError(f"{whose} covers {covered:.2f} periods in {t.size} steps; the fit needs {periods:g} "
+                           "after the first, 8 steps or more each")
+    return window
 
 
 def _translation(ctx, run_id):
@@ -49,12 +66,7 @@ def oscillation_force(ctx, spec, run_id):
     if column not in steps:
         raise HarnessError(f"steps.csv of '{run_id}' has no column '{column}' (columns: {', '.join(steps)})")
     t = steps["time"]
-    window = t >= t[-1] - periods * 2.0 * math.pi / omega - 1e-12 * t[-1]
-    # 1e-9: a step written to 14 digits ends a whole number of periods a rounding short.
-    covered = t[-1] * omega / (2.0 * math.pi)
-    if covered < (periods + 1.0) * (1.0 - 1e-9) or np.count_nonzero(window) < 8 * periods:
-        raise HarnessError(f"oscillation_force: run '{run_id}' covers {covered:.2f} periods in "
-                           f"{t.size} steps; the fit needs {periods:g} after the first, 8 steps or more each")
+    window = last_periods(t, omega, periods, f"oscillation_force: run '{run_id}'")
     # Displacement amplitude sin(w t + phase): velocity and acceleration.
     u = amplitude * omega * np.cos(omega * t[window] + phase)
     du = -amplitude * omega ** 2 * np.sin(omega * t[window] + phase)
@@ -69,11 +81,7 @@ def oscillation_force(ctx, spec, run_id):
 
 
 def _motion(ctx, run_id):
-    from .extract import read_csv
-    t = read_csv(ctx.run_dir(run_id) / "motion.csv")
-    if t["time"].size == 0:
-        raise HarnessError(f"motion.csv of '{run_id}' has no rows")
-    return t
+    return run_table(ctx, run_id, "motion.csv")
 
 
 def earth_velocity(m):

@@ -22,6 +22,7 @@ import numpy as np
 
 from .captive import _groups, _input_number
 from .errors import HarnessError
+from .motion import last_periods, run_table
 from .schema import extractor
 
 DOFS = ("x", "y", "z", "roll", "pitch", "yaw")
@@ -110,14 +111,6 @@ def body_motion(path, t, centre, water):
     return np.einsum("nij,nj->ni", to_body, through_water), np.einsum("nij,nj->ni", to_body, omega), to_body
 
 
-def _steps(ctx, run_id):
-    from .extract import read_csv  # the one CSV reader (extract imports this module)
-    t = read_csv(ctx.run_dir(run_id) / "steps.csv")
-    if t["time"].size == 0:
-        raise HarnessError(f"steps.csv of '{run_id}' has no rows")
-    return t
-
-
 def _water(run_input):
     far = run_input.get("bc", {}).get("farfield", {})
     return np.array([float(v) for v in far.get("velocity", [1.0, 0.0, 0.0])])
@@ -127,7 +120,7 @@ def _water(run_input):
 def pmm_derivative(ctx, spec, run_id):
     """One derivative (`derivative`: Yv, Yr, Yvdot, Yrdot, N..., Zw, Zq, Zwdot, Zqdot,
     M...) of the wall groups `groups` from a prescribed-motion run, fitted over its last
-    `periods` periods (default 2; the run must cover one more). A derivative whose variable
+    `periods` periods (default 1; the run must cover one more). A derivative whose variable
     the motion does not vary is an error: a pure yaw run has no Y'v."""
     component, variable = _derivative_name(spec.get("derivative"))
     groups = _groups(spec)
@@ -149,15 +142,10 @@ def pmm_derivative(ctx, spec, run_id):
         raise HarnessError(f"{whose}: the body does not move through the water (no speed to make derivatives by)")
     centre = np.array([float(v) for v in run_input.get("output", {}).get("moment_centre", [0.0, 0.0, 0.0])])
 
-    steps = _steps(ctx, run_id)
+    steps = run_table(ctx, run_id, "steps.csv")
     t = steps["time"]
-    periods = float(spec.get("periods", 2))
     period = 2.0 * math.pi / omega
-    # 1e-9: a step written to 14 digits ends a whole number of periods a rounding short.
-    if t[-1] < (periods + 1.0) * period * (1.0 - 1e-9):
-        raise HarnessError(f"pmm_derivative: {whose} covers {t[-1] / period:.2f} periods; the fit needs {periods:g} "
-                           "after the first")
-    window = t >= t[-1] - periods * period - 1e-12 * t[-1]
+    window = last_periods(t, omega, float(spec.get("periods", 1)), f"pmm_derivative: {whose}")
     tw = t[window]
     # The force in grid axes, then in body axes.
     force = np.zeros((tw.size, 3))
