@@ -220,14 +220,22 @@ def speed_rise(ctx, spec, run_id):
 
 def free_body_frame(run_input, whose):
     """What a free body's path through the water is measured in, from its run's input:
-    (origin at release, the water's velocity far from it, gravity's unit vector), grid
-    axes. The water is the far field's (bc.farfield.velocity; without it the unit stream
-    +x, which a flow angle of attack or drift would turn: those runs must give it)."""
+    (origin at release, the water's velocity far from it (water_velocity), gravity's unit
+    vector), grid axes."""
     motion = run_input.get("motion", {})
     if motion.get("type") != "free" or "gravity" not in motion:
         raise HarnessError(f"{whose} needs [motion] type = \"free\" with a gravity vector")
     down, _ = gravity_direction(motion["gravity"], whose)
     origin = np.array([float(v) for v in motion.get("origin", [0.0, 0.0, 0.0])])
+    if origin.shape != (3,):
+        raise HarnessError(f"{whose}: motion.origin must be a vector of 3")
+    return origin, water_velocity(run_input, whose), down
+
+
+def water_velocity(run_input, whose):
+    """The water's velocity far from the body, grid axes, from a run's input:
+    bc.farfield.velocity, or without it the unit stream +x, which a flow angle of attack
+    or drift would turn: those runs must give it."""
     far = run_input.get("bc", {}).get("farfield", {})
     flow = run_input.get("flow", {})
     if "velocity" in far:
@@ -236,9 +244,9 @@ def free_body_frame(run_input, whose):
         raise HarnessError(f"{whose}: with a flow angle the water's velocity is not +x: give bc.farfield.velocity")
     else:
         stream = np.array([1.0, 0.0, 0.0])
-    if origin.shape != (3,) or stream.shape != (3,):
-        raise HarnessError(f"{whose}: motion.origin and bc.farfield.velocity must be vectors of 3")
-    return origin, stream, down
+    if stream.shape != (3,):
+        raise HarnessError(f"{whose}: bc.farfield.velocity must be a vector of 3")
+    return stream
 
 
 def water_path(m, frame):

@@ -22,7 +22,7 @@ import numpy as np
 
 from .captive import _groups, _input_number
 from .errors import HarnessError
-from .motion import last_periods, run_table
+from .motion import last_periods, run_table, water_velocity
 from .schema import extractor
 
 DOFS = ("x", "y", "z", "roll", "pitch", "yaw")
@@ -111,11 +111,6 @@ def body_motion(path, t, centre, water):
     return np.einsum("nij,nj->ni", to_body, through_water), np.einsum("nij,nj->ni", to_body, omega), to_body
 
 
-def _water(run_input):
-    far = run_input.get("bc", {}).get("farfield", {})
-    return np.array([float(v) for v in far.get("velocity", [1.0, 0.0, 0.0])])
-
-
 @extractor("pmm_derivative", "derivative", "groups", "length", "periods")
 def pmm_derivative(ctx, spec, run_id):
     """One derivative (`derivative`: Yv, Yr, Yvdot, Yrdot, N..., Zw, Zq, Zwdot, Zqdot,
@@ -136,7 +131,7 @@ def pmm_derivative(ctx, spec, run_id):
     if not (math.isclose(area, length ** 2, rel_tol=1e-6) and math.isclose(arm, length, rel_tol=1e-6)):
         raise HarnessError(f"{whose}: PMM derivatives need output.reference_area = L^2 and output.reference_length = L "
                            f"(L = {length}); got {area} and {arm}")
-    water = _water(run_input)
+    water = water_velocity(run_input, whose)
     speed = float(np.linalg.norm(water - path.velocity))
     if speed == 0.0:
         raise HarnessError(f"{whose}: the body does not move through the water (no speed to make derivatives by)")

@@ -137,6 +137,10 @@ class Refusals(unittest.TestCase):
             with self.assertRaisesRegex(HarnessError, "periods"):
                 EXTRACT["pmm_derivative"][0](Ctx(d, {"run": inputs}),
                                              {"derivative": "Yv", "groups": ["hull"], "periods": 3}, "run")
+            # A flow angle without the far field's velocity: the water is not known to be +x.
+            turned = dict(inputs, bc={}, flow={"drift_angle": 4.0})
+            with self.assertRaisesRegex(HarnessError, "give bc.farfield.velocity"):
+                fit(d, turned, "Yv")
 
 
 if __name__ == "__main__":
