@@ -4,11 +4,11 @@
 #include <charconv>
 #include <filesystem>
 #include <cmath>
-#include <fstream>
 #include <optional>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "io/text_file.hpp"
 
 namespace narwhal {
 
@@ -42,25 +42,14 @@ std::string Range::describe() const {
   return "finite";
 }
 
-namespace {
-
-// The text of a regular file, or nothing when `path` is not one or cannot be read.
-std::optional<std::string> regular_file_text(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-}  // namespace
-
 ConfigReader::ConfigReader(const std::string& path) : file_(path) {
-  const std::optional<std::string> text = regular_file_text(path);
-  if (!text) fail("cannot open case file '{}': not a readable regular file", path);
-  parse(*text);
+  std::string text;
+  try {
+    text = read_text_file(path);
+  } catch (const Error& e) {
+    fail("case file: {}", e.what());
+  }
+  parse(text);
 }
 
 ConfigReader::ConfigReader(const std::string& text, const std::string& display_name) : file_(display_name) {
@@ -87,10 +76,6 @@ void lay_over(toml::table& under, const toml::table& over) {
       under.insert_or_assign(k.str(), v);
   }
 }
-
-}  // namespace
-
-namespace {
 
 // Every key reached through tables of `t` (arrays are leaves), dotted, under `prefix`.
 void collect_keys(const toml::table& t, const std::string& prefix, std::vector<std::string>& out) {
@@ -126,14 +111,18 @@ std::vector<ConfigReader::BaseFile> ConfigReader::merge_base(const std::string& 
     const auto seen = [&](const BaseFile& f) { return f.path == shown; };
     if (std::any_of(bases.begin(), bases.end(), seen) || bases.size() == 4)
       error("base", fmt::format("the chain of bases through '{}' loops or is deeper than 4", shown));
-    std::optional<std::string> text = regular_file_text(path);
-    if (!text) error("base", fmt::format("cannot open '{}': expected a readable regular file", shown));
+    std::string text;
     try {
-      chain.push_back(toml::parse(*text, shown));
+      text = read_text_file(shown);
+    } catch (const Error& e) {
+      error("base", e.what());
+    }
+    try {
+      chain.push_back(toml::parse(text, shown));
     } catch (const toml::parse_error& e) {
       fail("{}:{}:{}: TOML syntax error: {}", shown, e.source().begin.line, e.source().begin.column, e.description());
     }
-    bases.push_back({shown, std::move(*text)});
+    bases.push_back({shown, std::move(text)});
     dir = path.parent_path();
     next = chain.back().get("base");
   }

@@ -35,8 +35,11 @@ void write_file_atomically(const std::string& path, const std::string& content) 
 }
 
 std::string read_text_file(const std::string& path) {
+  // A device or a directory is refused before it is opened: /dev/zero would be read without end.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) fail("cannot read '{}': expected a readable regular file", path);
   std::ifstream in(path, std::ios::binary);
-  if (!in) fail("cannot read '{}'", path);
+  if (!in) fail("cannot read '{}': expected a readable regular file", path);
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();

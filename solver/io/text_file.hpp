@@ -9,7 +9,7 @@ namespace narwhal {
 // renames it over `path`; a reader sees the old file or the new one, never a part.
 void write_file_atomically(const std::string& path, const std::string& content);
 
-// The whole content of a text file (an Error naming it if it cannot be read).
+// The whole content of a regular text file (an Error naming it if it is not one or cannot be read).
 std::string read_text_file(const std::string& path);
 
 }  // namespace narwhal
