@@ -99,16 +99,23 @@ class PrescribedPath:
 
 
 def body_motion(path, t, centre, water):
-    """Body-axes (u, v, w) of the moment centre through the water and (p, q, r), per time."""
+    """Body-axes (u, v, w) of the moment centre through the water, (p, q, r), and the time
+    rates of those body-axes components, per time; and the turn D R^T from grid to body axes.
+    With R' = [omega]x R, the rates are D R^T (a_pivot + alpha x arm - omega x (V_pivot - W))
+    and D R^T alpha (arm = R (centre - pivot), all in grid axes)."""
     angle = path.angle(t)
     rot = path.rotation(angle)
     omega = np.outer(path.angle(t, 1), path.rotation_axis)  # grid axes
+    alpha = np.outer(path.angle(t, 2), path.rotation_axis)
     pivot_velocity = path.coordinates(t, 1)[:, :3]
+    pivot_acceleration = path.coordinates(t, 2)[:, :3]
     arm = np.einsum("nij,j->ni", rot, centre - path.pivot)
     through_water = pivot_velocity + np.cross(omega, arm) - water
+    rate = pivot_acceleration + np.cross(alpha, arm) - np.cross(omega, pivot_velocity - water)
     flip = np.diag([-1.0, -1.0, 1.0])  # body axes at rest: the grid's turned 180 degrees about z
     to_body = np.einsum("ij,nkj->nik", flip, rot)  # D R^T
-    return np.einsum("nij,nj->ni", to_body, through_water), np.einsum("nij,nj->ni", to_body, omega), to_body
+    in_body = lambda vectors: np.einsum("nij,nj->ni", to_body, vectors)  # noqa: E731
+    return in_body(through_water), in_body(omega), in_body(rate), in_body(alpha), to_body
 
 
 @extractor("pmm_derivative", "derivative", "groups", "length", "periods")
@@ -139,7 +146,6 @@ def pmm_derivative(ctx, spec, run_id):
 
     steps = run_table(ctx, run_id, "steps.csv")
     t = steps["time"]
-    period = 2.0 * math.pi / omega
     window = last_periods(t, omega, float(spec.get("periods", 1)), f"pmm_derivative: {whose}")
     tw = t[window]
     # The force in grid axes, then in body axes.
@@ -152,23 +158,19 @@ def pmm_derivative(ctx, spec, run_id):
                 if column not in steps:
                     raise HarnessError(f"steps.csv of '{run_id}' has no column '{column}'")
                 target[:, k] += steps[column][window]
-    linear, angular, to_body = body_motion(path, tw, centre, water)
+    linear, angular, linear_rate, angular_rate, to_body = body_motion(path, tw, centre, water)
     force_b = np.einsum("nij,nj->ni", to_body, force)
     moment_b = np.einsum("nij,nj->ni", to_body, moment)
     value = {"Y": force_b[:, 1], "Z": force_b[:, 2], "M": moment_b[:, 1], "N": moment_b[:, 2]}[component]
-    # Rates by central differences of the exact motion (h: 1e-6 of a period).
-    h = 1e-6 * period
-    lin_p, ang_p, _ = body_motion(path, tw + h, centre, water)
-    lin_m, ang_m, _ = body_motion(path, tw - h, centre, water)
     plane = PLANES[component]
-    index = {"v": (linear, lin_p, lin_m, 1), "w": (linear, lin_p, lin_m, 2),
-             "q": (angular, ang_p, ang_m, 1), "r": (angular, ang_p, ang_m, 2)}
+    index = {"v": (linear, linear_rate, 1), "w": (linear, linear_rate, 2),
+             "q": (angular, angular_rate, 1), "r": (angular, angular_rate, 2)}
     columns = {}
     for name in plane:
-        now, plus, minus, k = index[name]
+        now, rate, k = index[name]
         rate_scale = length / speed if name in "qr" else 1.0
         columns[name] = now[:, k] / speed * rate_scale
-        columns[name + "dot"] = (plus[:, k] - minus[:, k]) / (2.0 * h) * length / speed ** 2 * rate_scale
+        columns[name + "dot"] = rate[:, k] * length / speed ** 2 * rate_scale
     # Only the variables the motion varies, against their partner of the same order.
     partner = {plane[0]: plane[1], plane[1]: plane[0]}
     partner.update({a + "dot": b + "dot" for a, b in list(partner.items())})
