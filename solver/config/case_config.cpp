@@ -166,7 +166,7 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
     const Real degrees = r.number_or(key, 0.0, d.what, Range::between(-30.0, 30.0));
     if (degrees != 0.0 && !has(d.appendage))
       r.error(key, fmt::format("configuration '{}' has no {}", a.configuration, d.appendage));
-    *d.value = degrees * std::acos(-1.0) / 180.0;
+    *d.value = degrees * kRadiansPerDegree;
   }
   // Last: the counts and spacings above (y+ targets included) are the scale-1 member's.
   const Real scale = r.number_or("grid.scale", 1.0,
@@ -396,7 +396,7 @@ void read_controls(const ConfigReader& r, CaseConfig& c) {
       if (i > 0 && !(times[i] > times[i - 1]))
         r.error(pre + "times", fmt::format("the times must increase: entry {} ({}) follows {}", i + 1, times[i],
                                            times[i - 1]));
-      table.emplace_back(times[i], angles[i] * std::acos(-1.0) / 180.0);
+      table.emplace_back(times[i], angles[i] * kRadiansPerDegree);
     }
     spec.*s.table = table;
   }
@@ -413,11 +413,10 @@ void read_autopilot(const ConfigReader& r, CaseConfig& c) {
   if (c.grid.type != "appended_suboff")
     r.error("autopilot", "the autopilots drive an appended SUBOFF's control surfaces (grid.type = \"appended_suboff\")");
   if (!c.time.unsteady()) r.error("autopilot", "the autopilots act in physical time: add a [time] table");
-  const Real degree = std::acos(-1.0) / 180.0;
   AutopilotSettings a;
   auto angle = [&](const std::string& key, const std::string& what) -> std::optional<Real> {
     if (!r.has(key)) return std::nullopt;
-    return r.number(key, what, Range::between(-180.0, 180.0)) * degree;
+    return r.number(key, what, Range::between(-180.0, 180.0)) * kRadiansPerDegree;
   };
   a.heading = angle("autopilot.heading", "the heading to hold, degrees from the release's (> 0: to starboard)");
   a.pitch = angle("autopilot.pitch", "the pitch to hold, degrees (> 0: nose up)");
@@ -426,11 +425,11 @@ void read_autopilot(const ConfigReader& r, CaseConfig& c) {
   if (a.depth_change && a.pitch)
     r.error("autopilot.pitch", "a depth change sets the pitch command itself: give one of depth_change and pitch");
   const Real limit = r.number_or("autopilot.surface_limit", 25.0, "every surface's largest angle, degrees",
-                                 Range::between(0.0, 30.0)) * degree;
+                                 Range::between(0.0, 30.0)) * kRadiansPerDegree;
   const Real rate = r.number_or("autopilot.surface_rate", 1.0e3, "every surface's largest rate, degrees per unit time",
-                                Range::positive()) * degree;
+                                Range::positive()) * kRadiansPerDegree;
   const Real steepest = r.number_or("autopilot.max_pitch", 15.0, "the depth loop's steepest pitch command, degrees",
-                                    Range::between(0.0, 45.0)) * degree;
+                                    Range::between(0.0, 45.0)) * kRadiansPerDegree;
   auto loop = [&](const std::string& name, Real largest, Real fastest) {
     const std::string pre = "autopilot." + name + ".";
     PidSettings p;
@@ -486,7 +485,6 @@ void read_zigzag(const ConfigReader& r, CaseConfig& c) {
   if (c.grid.type != "appended_suboff")
     r.error("zigzag", "a zig-zag turns an appended SUBOFF's control surfaces (grid.type = \"appended_suboff\")");
   if (!c.time.unsteady()) r.error("zigzag", "a zig-zag happens in physical time: add a [time] table");
-  const Real degree = std::acos(-1.0) / 180.0;
   ZigzagSettings z;
   const std::string surface = r.string("zigzag.surface", "the surface: rudder (heading) or stern_planes (pitch)");
   if (surface != "rudder" && surface != "stern_planes")
@@ -499,13 +497,13 @@ void read_zigzag(const ConfigReader& r, CaseConfig& c) {
   const bool piloted = c.autopilot && (surface == "rudder" ? c.autopilot->heading.has_value()
                                                            : (c.autopilot->pitch || c.autopilot->depth_change));
   if (piloted) r.error("zigzag.surface", fmt::format("the {} are driven by [autopilot]: one of the two drives them", surface));
-  z.angle = r.number("zigzag.angle", "the deflection, degrees", Range{0.0, 30.0, false, true}) * degree;
-  z.switch_at = r.number_or("zigzag.switch_at", z.angle / degree,
+  z.angle = r.number("zigzag.angle", "the deflection, degrees", Range{0.0, 30.0, false, true}) * kRadiansPerDegree;
+  z.switch_at = r.number_or("zigzag.switch_at", z.angle / kRadiansPerDegree,
                             "the heading or pitch change that reverses the surface, degrees (the deflection's)",
-                            Range{0.0, 90.0, false, true}) * degree;
+                            Range{0.0, 90.0, false, true}) * kRadiansPerDegree;
   z.start = r.number_or("zigzag.start", 0.0, "when the first deflection begins", Range::at_least(0.0));
   z.rate = r.number_or("zigzag.rate", 0.0, "the surface's largest rate, degrees per unit time (0: at once)",
-                       Range::at_least(0.0)) * degree;
+                       Range::at_least(0.0)) * kRadiansPerDegree;
   const Real first = r.number_or("zigzag.first", 1.0, "the first deflection's sign, 1 or -1");
   if (first != 1.0 && first != -1.0) r.error("zigzag.first", fmt::format("expected 1 or -1, got {}", first));
   z.first = static_cast<int>(first);

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <array>
 #include <cstddef>
+#include <numbers>
 
 namespace narwhal {
 
@@ -21,5 +22,9 @@ using StateT = Eigen::Matrix<T, kNumEq, 1>;
 using Index3 = std::array<int, 3>;
 
 inline constexpr const char* kEquationNames[kNumEq] = {"p", "u", "v", "w"};
+
+// Angles: cases and output files speak degrees, the code radians.
+inline constexpr Real kRadiansPerDegree = std::numbers::pi / 180.0;
+inline constexpr Real kDegreesPerRadian = 180.0 / std::numbers::pi;
 
 }  // namespace narwhal

@@ -104,9 +104,9 @@ ControlsWriter::ControlsWriter(const std::string& path, std::optional<int> resum
     : file_(path, "step,time,rudder_deg,stern_planes_deg,sail_planes_deg,pitch_command_deg\n", resume_after) {}
 
 void ControlsWriter::write(int step, Real time, Real rudder, Real stern_planes, Real sail_planes, Real pitch_command) {
-  constexpr Real deg = 180.0 / 3.14159265358979323846;
-  file_.append(fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", step, time, rudder * deg + 0.0,
-                           stern_planes * deg + 0.0, sail_planes * deg + 0.0, pitch_command * deg + 0.0));
+  const auto degrees = [](Real radians) { return radians * kDegreesPerRadian + 0.0; };  // + 0.0: no "-0"
+  file_.append(fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", step, time, degrees(rudder),
+                           degrees(stern_planes), degrees(sail_planes), degrees(pitch_command)));
 }
 
 StepsWriter::StepsWriter(const std::string& path, const std::vector<std::string>& groups,
@@ -127,11 +127,10 @@ MotionWriter::MotionWriter(const std::string& path, std::optional<int> resume_af
 
 void MotionWriter::write(int step, Real time, const RigidBodyState& s, const EulerAngles& turned, const BodyLoads& flow,
                          int subiterations, Real coupling_change) {
-  constexpr Real deg = 180.0 / 3.14159265358979323846;
   std::string row = fmt::format("{},{:.17g}", step, time);
   for (int m = 0; m < 3; ++m) row += fmt::format(",{:.12e}", s.position()[m]);
   for (int m = 0; m < 4; ++m) row += fmt::format(",{:.12e}", s.attitude()[m]);
-  row += fmt::format(",{:.9e},{:.9e},{:.9e}", turned.roll * deg, turned.pitch * deg, turned.yaw * deg);
+  for (Real angle : {turned.roll, turned.pitch, turned.yaw}) row += fmt::format(",{:.9e}", angle * kDegreesPerRadian);
   for (int m = 0; m < 6; ++m) row += fmt::format(",{:.12e}", s.y[m]);
   for (int m = 0; m < 3; ++m) row += fmt::format(",{:.9e}", flow.force[m]);
   for (int m = 0; m < 3; ++m) row += fmt::format(",{:.9e}", flow.moment[m]);

@@ -403,7 +403,7 @@ std::vector<Block> make_appendage_box(const AppendageBox& box, const std::string
   }
   if (box.appendage->is_deflected()) {
     const std::string turned =
-        fmt::format("appendage box '{}' deflected by {:.4g} degrees", name, box.appendage->deflection * 180.0 / kPi);
+        fmt::format("appendage box '{}' deflected by {:.4g} degrees", name, box.appendage->deflection * kDegreesPerRadian);
     // A deflection the box has no room for folds blocks: say so, with the deflection.
     try {
       deflect_levels(box, lv);

@@ -11,7 +11,6 @@
 namespace narwhal {
 namespace {
 
-constexpr Real kDegrees = 180.0 / 3.14159265358979323846;
 
 void keep_min(QualityExtreme& e, Real v, const Block& b, int i, int j, int k) {
   if (v < e.value) e = {v, b.name, {i, j, k}};
@@ -124,7 +123,7 @@ GridQuality measure_grid_quality(const Grid& g, const std::vector<std::string>& 
         opposite[d] += side_high(p.side) ? -1 : 1;
         const Vec3 line = b.xf[d](opposite[0], opposite[1], opposite[2]) - xf;
         const Real cosang = std::clamp(line.normalized().dot(n), -1.0, 1.0);
-        keep_min(q.min_wall_orthogonality_deg, 90.0 - std::acos(cosang) * kDegrees, b, cell[0], cell[1], cell[2]);
+        keep_min(q.min_wall_orthogonality_deg, 90.0 - std::acos(cosang) * kDegreesPerRadian, b, cell[0], cell[1], cell[2]);
         const Real h = std::abs((b.xc(cell[0], cell[1], cell[2]) - xf).dot(n));
         keep_max(q.max_first_cell_height, h, b, cell[0], cell[1], cell[2]);
         const int t1 = (d + 1) % 3, t2 = (d + 2) % 3;

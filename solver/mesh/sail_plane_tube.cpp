@@ -404,7 +404,7 @@ std::vector<Block> make_sail_plane_tube(const SailPlaneTube& tube, const std::st
     try {
       deflect_plane(tube, p, lv);
     } catch (const Error& e) {
-      fail("'{}' deflected by {:.4g} degrees: {}", tube.planes[p]->name(), tube.planes[p]->deflection * 180.0 / revolution::kPi,
+      fail("'{}' deflected by {:.4g} degrees: {}", tube.planes[p]->name(), tube.planes[p]->deflection * kDegreesPerRadian,
            e.what());
     }
   }
