@@ -4,21 +4,13 @@
 
 namespace narwhal {
 
-namespace {
-
-bool same(const suboff::Deflections& a, const suboff::Deflections& b) {
-  return a.rudder == b.rudder && a.stern_planes == b.stern_planes && a.sail_planes == b.sail_planes;
-}
-
-}  // namespace
-
 ControlSurfaces::ControlSurfaces(const CaseConfig& c, int split_for, int levels, bool pieces)
     : shapes_(c, split_for, levels, pieces),
       law_(c.controls, c.autopilot, c.zigzag, shapes_.as_built()),
       shaped_(shapes_.as_built()) {}
 
 bool ControlSurfaces::reshape(const suboff::Deflections& d, RunMotion& motion) {
-  if (same(d, shaped_)) return false;
+  if (d == shaped_) return false;
   motion.reshape_all(shapes_.at(d));
   shaped_ = d;
   return true;

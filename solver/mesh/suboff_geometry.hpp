@@ -154,6 +154,7 @@ struct Configuration {
 };
 struct Deflections {
   Real rudder = 0.0, stern_planes = 0.0, sail_planes = 0.0;  // radians
+  bool operator==(const Deflections&) const = default;
 };
 Configuration make_configuration(const std::string& name, const Deflections& deflections = {});
 // The valid names, for messages.
