@@ -59,16 +59,22 @@ Patch full_face_patch(const Block& b, int side) {
   return p;
 }
 
-}  // namespace
+// Whether the two faces have the same node counts, in one order or the other.
+bool same_face_shape(const Block& A, int sa, const Block& B, int sb) {
+  const int dA = side_dir(sa), dB = side_dir(sb);
+  const int a1 = A.n((dA + 1) % 3), a2 = A.n((dA + 2) % 3);
+  const int b1 = B.n((dB + 1) % 3), b2 = B.n((dB + 2) % 3);
+  return (a1 == b1 && a2 == b2) || (a1 == b2 && a2 == b1);
+}
 
-std::optional<Interface> match_faces(const Grid& g, int ba, int sa, int bb, int sb, const Mat3& R,
-                                     const Vec3& t) {
+// match_faces with its tolerance given: the faces' nodes agree to within `tol`.
+std::optional<Interface> match_faces_within(const Grid& g, int ba, int sa, int bb, int sb, const Mat3& R,
+                                            const Vec3& t, Real tol) {
   const Block& A = g.blocks[ba];
   const Block& B = g.blocks[bb];
   const int dA = side_dir(sa), dB = side_dir(sb);
   const int a1 = (dA + 1) % 3, a2 = (dA + 2) % 3;
   const int u1 = (dB + 1) % 3, u2 = (dB + 2) % 3;
-  const Real tol = 1e-6 * std::min(face_min_edge(A, sa), face_min_edge(B, sb));
   const int sgnN = (side_high(sa) ? 1 : -1) * (side_high(sb) ? -1 : 1);
 
   for (int swap = 0; swap < 2; ++swap) {
@@ -108,6 +114,15 @@ std::optional<Interface> match_faces(const Grid& g, int ba, int sa, int bb, int 
   return std::nullopt;
 }
 
+}  // namespace
+
+std::optional<Interface> match_faces(const Grid& g, int ba, int sa, int bb, int sb, const Mat3& R,
+                                     const Vec3& t) {
+  if (!same_face_shape(g.blocks[ba], sa, g.blocks[bb], sb)) return std::nullopt;
+  const Real tol = 1e-6 * std::min(face_min_edge(g.blocks[ba], sa), face_min_edge(g.blocks[bb], sb));
+  return match_faces_within(g, ba, sa, bb, sb, R, t, tol);
+}
+
 void connect_free_faces(Grid& g) {
   struct Free {
     int block, side;
@@ -121,16 +136,24 @@ void connect_free_faces(Grid& g) {
         if (p.side == s) covered = true;
       if (!covered) free.push_back({static_cast<int>(ib), s});
     }
+  // Each face's shortest edge once, not once per pair tried: the pairs are quadratic in
+  // the free faces (a grid of some 200 blocks: 10^5 pairs), and the edges took most of the
+  // appended grid's build, which a manoeuvre repeats whenever a surface turns.
+  std::vector<Real> shortest(free.size());
+  for (std::size_t f = 0; f < free.size(); ++f) shortest[f] = face_min_edge(g.blocks[free[f].block], free[f].side);
   for (std::size_t f = 0; f < free.size(); ++f) {
     if (free[f].taken) continue;
     bool found = false;
     for (std::size_t h = f + 1; h < free.size() && !found; ++h) {
       if (free[h].taken) continue;
-      auto ab = match_faces(g, free[f].block, free[f].side, free[h].block, free[h].side, Mat3::Identity(),
-                            Vec3::Zero());
+      const Block& A = g.blocks[free[f].block];
+      if (!same_face_shape(A, free[f].side, g.blocks[free[h].block], free[h].side)) continue;
+      const Real tol = 1e-6 * std::min(shortest[f], shortest[h]);
+      auto ab = match_faces_within(g, free[f].block, free[f].side, free[h].block, free[h].side, Mat3::Identity(),
+                                   Vec3::Zero(), tol);
       if (!ab) continue;
-      auto ba = match_faces(g, free[h].block, free[h].side, free[f].block, free[f].side, Mat3::Identity(),
-                            Vec3::Zero());
+      auto ba = match_faces_within(g, free[h].block, free[h].side, free[f].block, free[f].side, Mat3::Identity(),
+                                   Vec3::Zero(), tol);
       if (!ba) continue;
       for (auto* itf : {&*ab, &*ba}) {
         Block& blk = g.blocks[itf->block];
