@@ -276,8 +276,9 @@ class SteadyRun {
   void prepare_grids() {
     split_for_ = c_.split_for > 0 ? c_.split_for : comm_.size();
     pieces_ = split_for_ > 1;
-    g_ = build_grid(c_, split_for_);
-    if (pieces_) whole_ = build_grid(c_);
+    Grid generated = generate_grid(c_);
+    g_ = finish_grid(c_, generated, split_for_);
+    if (pieces_) whole_ = finish_grid(c_, std::move(generated));
     distribute(g_, comm_.size(), comm_.rank());
     fp_ = flow_params(c_);
     if (c_.bulk_velocity > 0.0) {

@@ -27,7 +27,8 @@ std::vector<std::vector<GhostArray<Vec3>>> GridShapes::at(const suboff::Deflecti
   CaseConfig turned = c_;
   turned.grid.appended.deflections = d;
   std::vector<std::vector<GhostArray<Vec3>>> shapes;
-  const Grid fine = build_grid(turned, split_for_);
+  Grid generated = generate_grid(turned);
+  const Grid fine = finish_grid(turned, generated, split_for_);
   shapes.push_back(nodes_of(fine));
   if (levels_ > 1) {
     const CoarseLevels coarse = coarse_levels(fine, levels_, c_.solver.multigrid.min_cells);
@@ -35,7 +36,7 @@ std::vector<std::vector<GhostArray<Vec3>>> GridShapes::at(const suboff::Deflecti
       fail("{}: the turned grid has {} multigrid levels, the run {}", c_.file, coarse.grids.size() + 1, levels_);
     for (const Grid& g : coarse.grids) shapes.push_back(nodes_of(g));
   }
-  if (pieces_) shapes.push_back(nodes_of(build_grid(turned)));
+  if (pieces_) shapes.push_back(nodes_of(finish_grid(turned, std::move(generated))));
   return shapes;
 }
 

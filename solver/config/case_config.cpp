@@ -54,10 +54,10 @@ PatchBc parse_bc_type(const ConfigReader& r, const std::string& key) {
 // The unit free stream from flow.angle_of_attack and flow.drift_angle (degrees), for
 // a body whose nose points to -x of the grid (motion/grid_axes.hpp).
 Vec3 free_stream_direction(const ConfigReader& r) {
-  const Real deg = M_PI / 180.0;
-  const Real a = deg * r.number_or("flow.angle_of_attack", 0.0, "the angle of attack in degrees",
-                                   Range::between(-90, 90));
-  const Real b = deg * r.number_or("flow.drift_angle", 0.0, "the drift angle in degrees", Range::between(-90, 90));
+  const Real a = kRadiansPerDegree *
+                 r.number_or("flow.angle_of_attack", 0.0, "the angle of attack in degrees", Range::between(-90, 90));
+  const Real b =
+      kRadiansPerDegree * r.number_or("flow.drift_angle", 0.0, "the drift angle in degrees", Range::between(-90, 90));
   return free_stream_in_grid_axes(a, b);
 }
 
@@ -635,10 +635,10 @@ void read_motion(const ConfigReader& r, CaseConfig& c) {
     o.dof = parse_dof(dof);
     if (o.dof < 0) r.error(pre + "dof", "expected x, y, z, roll, pitch or yaw, got '" + dof + "'");
     o.amplitude = r.number(pre + "amplitude", o.dof < 3 ? "the amplitude (length)" : "the amplitude in degrees");
-    if (o.dof >= 3) o.amplitude *= M_PI / 180.0;
+    if (o.dof >= 3) o.amplitude *= kRadiansPerDegree;
     o.angular_frequency = r.number(pre + "angular_frequency", "the angular frequency (rad per unit time)",
                                    Range::at_least(0.0));
-    o.phase = r.number_or(pre + "phase", 0.0, "the phase in degrees") * M_PI / 180.0;
+    o.phase = r.number_or(pre + "phase", 0.0, "the phase in degrees") * kRadiansPerDegree;
     m.oscillations.push_back(o);
   }
   c.motion = m;
@@ -879,7 +879,7 @@ CaseConfig load_case(const std::string& path, const std::vector<std::string>& ov
 
 namespace {
 
-Grid build_grid_from(const CaseConfig& c, int balance_ranks) {
+Grid generate_grid_from(const CaseConfig& c) {
   Grid g;
   const auto& gc = c.grid;
   if (gc.type == "flat_plate") {
@@ -921,6 +921,11 @@ Grid build_grid_from(const CaseConfig& c, int balance_ranks) {
     }
   }
   if (gc.split != Index3{1, 1, 1} || gc.split_rotate) g = split_blocks(g, gc.split, gc.split_rotate);
+  return g;
+}
+
+Grid finish_grid_from(const CaseConfig& c, Grid g, int balance_ranks) {
+  const auto& gc = c.grid;
   // Cuts on multiples of 2^(levels - 1) cells of the grid that is run (grid.coarsen
   // levels below the generated one), so every multigrid level stays valid.
   if (balance_ranks > 1) {
@@ -942,7 +947,7 @@ Grid build_grid_from(const CaseConfig& c, int balance_ranks) {
     if (assign_bc(g, label, bc) == 0) fail("{}: key 'bc.{}': no patch of the grid has this label", c.file, label);
   for (std::size_t i = 0; i < c.periodic.size(); ++i) {
     const PeriodicConfig& p = c.periodic[i];
-    const Mat3 R = Eigen::AngleAxisd(p.angle_deg * M_PI / 180.0, p.axis.normalized()).toRotationMatrix();
+    const Mat3 R = Eigen::AngleAxisd(p.angle_deg * kRadiansPerDegree, p.axis.normalized()).toRotationMatrix();
     try {
       connect_periodic(g, p.a, p.b, R, p.translation);
     } catch (const Error& e) {
@@ -958,12 +963,12 @@ Grid build_grid_from(const CaseConfig& c, int balance_ranks) {
   return g;
 }
 
-}  // namespace
-
-// Every failure names the case file: the grid comes from it.
-Grid build_grid(const CaseConfig& c, int balance_ranks) {
+// `make` run with its errors naming the case file, the grid's source (and an imported
+// grid's file).
+template <class Make>
+Grid naming_the_case(const CaseConfig& c, Make make) {
   try {
-    return build_grid_from(c, balance_ranks);
+    return make();
   } catch (const Error& e) {
     const std::string what = e.what();
     if (what.rfind(c.file, 0) == 0) throw;
@@ -972,5 +977,17 @@ Grid build_grid(const CaseConfig& c, int balance_ranks) {
     fail("{}: {}", c.file, what);
   }
 }
+
+}  // namespace
+
+Grid generate_grid(const CaseConfig& c) {
+  return naming_the_case(c, [&] { return generate_grid_from(c); });
+}
+
+Grid finish_grid(const CaseConfig& c, Grid generated, int balance_ranks) {
+  return naming_the_case(c, [&] { return finish_grid_from(c, std::move(generated), balance_ranks); });
+}
+
+Grid build_grid(const CaseConfig& c, int balance_ranks) { return finish_grid(c, generate_grid(c), balance_ranks); }
 
 }  // namespace narwhal

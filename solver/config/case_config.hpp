@@ -177,4 +177,13 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
 // ranks within 5 % (parallel/partition.hpp), on multigrid-aligned cuts.
 Grid build_grid(const CaseConfig& c, int balance_ranks = 1);
 
+// build_grid in its two parts, for a run that keeps the case's blocks beside their
+// pieces (or a manoeuvre that rebuilds both) without generating them twice:
+//   const Grid generated = generate_grid(c);
+//   Grid pieces = finish_grid(c, generated, ranks), whole = finish_grid(c, generated);
+// generate_grid: the generator's (or the file's) blocks with their patches, split by
+// grid.split; finish_grid: the rest (cut for ranks, BCs, connected, metrics, coarsened).
+Grid generate_grid(const CaseConfig& c);
+Grid finish_grid(const CaseConfig& c, Grid generated, int balance_ranks = 1);
+
 }  // namespace narwhal
