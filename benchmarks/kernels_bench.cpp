@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/driver.hpp"
+#include "app/grid_shapes.hpp"
 #include "app/turbulence_coupling.hpp"
 #include "bc/boundary.hpp"
 #include "implicit/jacobian.hpp"
@@ -188,7 +189,7 @@ struct TurbulentPlate {
     f.allocate(g, fp, c.initial);
     mark_invariant_directions(g, f, fp);
     mg = std::make_unique<Multigrid>(g, f, fp, c.solver.newton, c.solver.multigrid);
-    coupling = std::make_unique<TurbulenceCoupling>(c.turbulence, g, f, fp, mg.get(), nullptr);
+    coupling = std::make_unique<TurbulenceCoupling>(c.turbulence, g, f, fp, mg.get(), nullptr, Communicator::world());
     model = coupling->model();
   }
   void cycle() { coupling->after_mean_flow_step(mg->cycle().cfl); }
@@ -226,6 +227,23 @@ void BM_WallDistancePerCell(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations() * g.cells());
 }
 BENCHMARK(BM_WallDistancePerCell)->Unit(benchmark::kMillisecond);
+
+// The grids of R7c's manoeuvring vehicle (209 k cells) rebuilt with its stern planes
+// turned, as a manoeuvre on two ranks does whenever a surface moves: the pieces for two
+// ranks and the case's own blocks (app/grid_shapes.hpp), per cell. (Its grid at half the
+// cell counts folds a cell of the stern planes' boxes at any deflection.)
+void BM_ControlSurfaceRebuildPerCell(benchmark::State& st) {
+  const CaseConfig c =
+      load_case(std::string(NARWHAL_SOURCE_DIR) + "/validation/cases/suboff_manoeuvres/vehicle_grid.toml", {});
+  const GridShapes shapes(c, 2, 1, true);
+  Real angle = 0.0;
+  for (auto _ : st) {
+    angle += 1.0e-3;  // a new angle each time, as the autopilot's
+    benchmark::DoNotOptimize(shapes.at(suboff::Deflections{0.0, angle, 0.0}));
+  }
+  st.SetItemsProcessed(st.iterations() * build_grid(c).cells());
+}
+BENCHMARK(BM_ControlSurfaceRebuildPerCell)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 // STREAM-like triad a = b + s c over arrays far larger than the caches: the
 // machine's sustainable memory bandwidth (bytes_per_second: 3 x 8 bytes per element).
