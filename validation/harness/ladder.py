@@ -1,5 +1,6 @@
 """The paper's validation ladder (validation/ladder.toml): its steps in order, the rungs
 that test each, and the issue that builds a step not built yet."""
+import re
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,5 +36,8 @@ def load_ladder(path=LADDER):
         rungs, planned = tuple(t.get("rungs", ())), t.get("planned", "")
         if bool(rungs) == bool(planned):
             raise HarnessError(f"{path}: key 'step[{i}]': give either rungs (built) or planned (not built yet)")
+        if planned and not re.fullmatch(r"issue \d+", planned):
+            raise HarnessError(f"{path}: key 'step[{i}].planned': expected the issue that builds the step, "
+                               f"\"issue <number>\", got {planned!r}")
         steps.append(Step(t["title"], rungs, planned))
     return steps

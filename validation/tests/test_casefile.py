@@ -270,10 +270,14 @@ class Ladder(unittest.TestCase):
 
     def test_steps_not_built_name_the_issue_that_builds_them(self):
         from harness.ladder import load_ladder
-        planned = [s for s in load_ladder() if s.planned]
-        self.assertTrue(planned)
-        for s in planned:
-            self.assertRegex(s.planned, r"^issue \d+$")
+        with tempfile.TemporaryDirectory() as d:
+            path = Path(d) / "ladder.toml"
+            path.write_text('[[step]]\ntitle = "a later step"\nplanned = "issue 31"\n')
+            self.assertEqual(load_ladder(path)[0].planned, "issue 31")
+            for wrong in ('planned = "later"', 'planned = "issue 31"\nrungs = ["mms"]'):
+                path.write_text(f'[[step]]\ntitle = "a later step"\n{wrong}\n')
+                with self.assertRaisesRegex(HarnessError, "step\\[0\\]"):
+                    load_ladder(path)
 
 
 if __name__ == "__main__":
