@@ -14,7 +14,8 @@ SURFACE_COLUMNS = ("rudder_deg", "stern_planes_deg", "sail_planes_deg")
 
 
 def _depth_error(ctx, run_id):
-    """(time, depth since release less the commanded change) of an autopilot depth change."""
+    """(time, depth since release less the commanded change, the command) of an autopilot
+    depth change."""
     run_input = ctx.inputs[run_id]
     whose = f"run '{run_id}'"
     command = run_input.get("autopilot", {}).get("depth_change")
@@ -22,7 +23,7 @@ def _depth_error(ctx, run_id):
         raise HarnessError(f"depth_change: {whose} has no autopilot.depth_change")
     m = run_table(ctx, run_id, "motion.csv")
     _, _, rise = water_path(m, free_body_frame(run_input, whose))
-    return m["time"], -rise - float(command)
+    return m["time"], -rise - float(command), float(command)
 
 
 def _window(t, spec, whose):
@@ -44,12 +45,11 @@ def depth_change(ctx, spec, run_id):
     never did); "settling_time": the time from which |depth - command| stays within `band`
     to the run's end (an error when the run ends outside it)."""
     part = spec.get("part")
-    t, error = _depth_error(ctx, run_id)
+    t, error, command = _depth_error(ctx, run_id)
     whose = f"run '{run_id}'"
     if part == "error":
         return float(np.max(np.abs(error[_window(t, spec, whose)])))
     if part == "overshoot":
-        command = float(ctx.inputs[run_id]["autopilot"]["depth_change"])
         beyond = error if command >= 0.0 else -error
         return float(max(0.0, np.max(beyond)))
     if part == "settling_time":
