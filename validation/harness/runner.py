@@ -273,7 +273,21 @@ def _run_key(r, rd, n, narwhal, out_dir, root):
         return None
     if sources is None:
         return None
-    return {"command": cmd, "case_folder_sha256": case_folder_digest(r.input), "solver_sources": sources}
+    return {"command": [_relative_to(root, a) for a in cmd], "case_folder_sha256": case_folder_digest(r.input),
+            "solver_sources": sources}
+
+
+def _relative_to(root, arg):
+    """A command argument naming a path inside the checkout, relative to it: a run archived from
+    one checkout (harness/archive.py) keeps its key in another."""
+    root = Path(root).resolve()
+    p = Path(arg)
+    if p.is_absolute():
+        try:
+            return "<checkout>/" + p.resolve().relative_to(root).as_posix()
+        except ValueError:
+            pass
+    return arg
 
 
 def _recorded_run(rd, key):

@@ -1,5 +1,6 @@
 """The runner's handling of builds that cannot run a rung, and of a resumed report."""
 import os
+import shutil
 import subprocess
 import stat
 import tempfile
@@ -9,6 +10,7 @@ from pathlib import Path
 
 import support  # noqa: F401
 
+from harness.archive import pack, unpack
 from harness.casefile import load_rung
 from harness.errors import HarnessError
 from test_casefile import GOOD
@@ -160,6 +162,42 @@ class ResumedReport(unittest.TestCase):
         (self.root / "out" / "runs" / "a" / "harness_run_started.json").write_text("{}")
         self.assertEqual(self.runs_made(exe, resume=False)[0], 1)
         self.assertNotIn("--restart", (self.root / "runs.log").read_text().splitlines()[-1])
+
+    def test_an_archived_run_is_reused_in_another_checkout(self):
+        exe = counting_narwhal(self.root)
+        self.runs_made(exe)
+        (self.root / "out" / "runs" / "a" / "solution.cgns").write_text("field")
+        archive = Path(tempfile.mkdtemp())
+        packed = pack(self.root, archive)
+        self.assertEqual([p.relative_to(archive).as_posix() for p in packed], ["out/a.tar.xz"])
+        self.assertEqual(pack(self.root, archive), [], "already archived under the same key")
+        other = Path(tempfile.mkdtemp()) / "clone"
+        shutil.copytree(self.root, other, ignore=shutil.ignore_patterns("out", "runs.log"))
+        self.assertEqual(len(unpack(archive, other)), 1)
+        restored = other / "out" / "runs" / "a"
+        self.assertFalse((restored / "solution.cgns").exists(), "fields stay out of the archive")
+        self.assertFalse((restored / "restart.h5").exists(), "no run starts from it")
+        before = self.count(exe)  # the copied executable logs beside the original
+        res = run_rung(load_rung(other / "cases" / "r" / "case.toml"), "quick", other / "narwhal", other / "out",
+                       other, resume=True)
+        self.assertEqual(self.count(exe) - before, 0, "the archived run was not made again")
+        self.assertTrue(res["runs"][0]["reused"])
+        (other / "cases" / "r" / "in.toml").write_text("a = 2\n")
+        run_rung(load_rung(other / "cases" / "r" / "case.toml"), "quick", other / "narwhal", other / "out",
+                 other, resume=True)
+        self.assertEqual(self.count(exe) - before, 1, "but made again once its input changed")
+
+    def test_the_archive_keeps_a_restart_another_run_starts_from(self):
+        exe = counting_narwhal(self.root)
+        self.runs_made(exe)
+        (self.root / "out" / "runs" / "a" / "restart.h5").write_text("state")
+        archive = Path(tempfile.mkdtemp())
+        pack(self.root, archive, restart_sources=lambda rung: {"a"})
+        unpacked = unpack(archive, Path(tempfile.mkdtemp()))
+        self.assertEqual((unpacked[0] / "restart.h5").read_text(), "state")
+        (self.root / "out" / "runs" / "a" / "restart.h5").unlink()
+        with self.assertRaisesRegex(HarnessError, "restart.h5 is missing"):
+            pack(self.root, Path(tempfile.mkdtemp()), restart_sources=lambda rung: {"a"})
 
     def test_a_diverged_run_is_not_reused(self):
         exe = counting_narwhal(self.root, exit_code=3)
