@@ -54,13 +54,29 @@ def solver_source_fingerprint(root):
 
 def case_folder_digest(input_path):
     """sha256 over the files of a run's input folder but the rung file (case.toml): the input
-    and whatever it names beside it (grids, tables)."""
+    and whatever it names beside it (grids, tables); then, for each base the input is laid
+    over that lies in another folder, that folder's files likewise (a base names its own
+    grids and tables from its folder)."""
     h = hashlib.sha256()
-    for f in sorted(Path(input_path).resolve().parent.iterdir()):
-        if f.is_file() and f.name != "case.toml":
-            h.update(f.name.encode())
-            h.update(f.read_bytes())
+    folders = []
+    for path in [Path(input_path)] + base_chain(input_path):
+        folder = path.resolve().parent
+        if folder in folders:
+            continue
+        if folders:  # an input without bases elsewhere keeps the digest it always had
+            h.update(b"\0base folder\0")
+        folders.append(folder)
+        for f in sorted(folder.iterdir()):
+            if f.is_file() and f.name != "case.toml":
+                h.update(f.name.encode())
+                h.update(f.read_bytes())
     return h.hexdigest()
+
+
+def base_chain(path):
+    """The files a case file is laid over (`base`, relative to the file naming it), nearest
+    first; refused as case_input refuses them."""
+    return _read_chain(path)[1]
 
 
 def _lay_over(under, over):
@@ -71,9 +87,8 @@ def _lay_over(under, over):
             under[k] = v
 
 
-def case_input(path):
-    """A case file as narwhal reads it: laid over its `base` (config/reader.hpp), which may
-    have a base of its own (relative to its directory), four deep at most."""
+def _read_chain(path):
+    """The layers of a case file and its bases (nearest first), with the bases' paths."""
     path = Path(path)
     with open(path, "rb") as f:
         data = tomllib.load(f)
@@ -92,6 +107,13 @@ def case_input(path):
             raise HarnessError(f"{path}: key 'base': cannot open '{base_path}': {e}")
         seen.append(base_path)
         path = base_path
+    return layers, seen
+
+
+def case_input(path):
+    """A case file as narwhal reads it: laid over its `base` (config/reader.hpp), which may
+    have a base of its own (relative to its directory), four deep at most."""
+    layers, _ = _read_chain(path)
     merged = layers.pop()
     while layers:
         _lay_over(merged, layers.pop())
@@ -269,12 +291,12 @@ def _run_key(r, rd, n, narwhal, out_dir, root):
     sources = solver_source_fingerprint(root)
     try:
         cmd = _narwhal_command(r, rd, n, narwhal, out_dir)
-    except HarnessError:
+        inputs = case_folder_digest(r.input)
+    except HarnessError:  # the run itself says what is wrong
         return None
     if sources is None:
         return None
-    return {"command": [_relative_to(root, a) for a in cmd], "case_folder_sha256": case_folder_digest(r.input),
-            "solver_sources": sources}
+    return {"command": [_relative_to(root, a) for a in cmd], "case_folder_sha256": inputs, "solver_sources": sources}
 
 
 def _relative_to(root, arg):

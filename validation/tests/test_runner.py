@@ -1,4 +1,5 @@
 """The runner's handling of builds that cannot run a rung, and of a resumed report."""
+import hashlib
 import os
 import shutil
 import subprocess
@@ -14,7 +15,7 @@ from harness.archive import pack, unpack
 from harness.casefile import load_rung
 from harness.errors import HarnessError
 from test_casefile import GOOD
-from harness.runner import built_with_mpi, run_rung
+from harness.runner import built_with_mpi, case_folder_digest, run_rung
 
 # A rung whose one run asks for two MPI ranks.
 RUNG = GOOD.replace('input = "in.toml"', 'input = "in.toml"\nranks = 2')
@@ -137,6 +138,29 @@ class ResumedReport(unittest.TestCase):
         (self.root / "solver" / "kernel.cpp").write_text("int y;\n")
         self.assertEqual(self.runs_made(exe)[0], 1, "uncommitted solver sources")
         self.assertEqual(self.runs_made(exe)[0], 1, "and never recorded while they stay so")
+
+    def test_a_changed_base_in_another_folder_runs_again(self):
+        common = self.root / "cases" / "common"
+        common.mkdir()
+        (common / "base.toml").write_text("b = 1\n")
+        (self.case / "in.toml").write_text('base = "../common/base.toml"\na = 1\n')
+        exe = counting_narwhal(self.root)
+        self.runs_made(exe)
+        self.assertEqual(self.runs_made(exe)[0], 0)
+        (common / "base.toml").write_text("b = 2\n")
+        self.assertEqual(self.runs_made(exe)[0], 1, "the base changed")
+        (common / "table.csv").write_text("1\n")
+        self.assertEqual(self.runs_made(exe)[0], 1, "a file beside the base")
+        self.assertEqual(self.runs_made(exe)[0], 0)
+
+    def test_an_input_without_bases_elsewhere_keeps_its_digest(self):
+        (self.case / "grid.xyz").write_text("1 2 3\n")
+        h = hashlib.sha256()
+        for f in sorted(self.case.iterdir()):
+            if f.name != "case.toml":
+                h.update(f.name.encode())
+                h.update(f.read_bytes())
+        self.assertEqual(case_folder_digest(self.case / "in.toml"), h.hexdigest())
 
     def test_the_solver_tests_and_notes_are_not_what_it_is_built_from(self):
         exe = counting_narwhal(self.root)
