@@ -88,10 +88,11 @@ PEER_CODES = ("openfoam",)
 # the stream, rise against gravity) with its axis drawn along it, nose marked; `beside`:
 # the same manoeuvre at another time step or on another grid, on the same axes;
 # "plan_view" the same seen from above (travel, to starboard). A time_history also draws
-# motion:rise and motion:travel, and controls:<column of controls.csv>.
+# motion:rise and motion:travel, controls:<column of controls.csv>, and
+# propulsor:<column of propulsor.csv> (rps, thrust, torque, advance_ratio) at the end of each step.
 PICTURE_KINDS = ("surface", "axial", "azimuthal", "friction_lines", "time_history", "wake_strip", "side_view",
                  "plan_view")
-TIME_HISTORY_FILES = ("steps", "motion", "controls")
+TIME_HISTORY_FILES = ("steps", "motion", "controls", "propulsor")
 
 
 @dataclass

@@ -9,6 +9,7 @@ axis (±x); the flow is in the solver's units (rho = 1, free stream U along +x, 
 """
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -146,3 +147,22 @@ def thrust_deduction(ctx, spec, run_id):
     area = float(ctx.input_value(towed, "output.reference_area"))
     along = sum(np.dot([forces[g]["cfx"], forces[g]["cfy"], forces[g]["cfz"]], axis) for g in forces)
     return (thrust - (-0.5 * area * along)) / thrust
+
+
+def propulsor_per_step(run_dir):
+    """propulsor.csv of a dual-time run at the end of each physical step: narwhal writes a row
+    after every sub-iteration, steps.csv how many sub-iterations each step took. Returns the
+    columns with steps.csv's `time` in place of `iteration`."""
+    from .extract import read_csv  # the one CSV reader (extract imports this module)
+    run_dir = Path(run_dir)
+    rows, steps = read_csv(run_dir / "propulsor.csv"), read_csv(run_dir / "steps.csv")
+    counts = np.asarray(steps["subiterations"], dtype=int)
+    n = len(rows["iteration"])
+    if counts.sum() != n or np.any(counts < 1):
+        raise HarnessError(f"{run_dir}: propulsor.csv has {n} rows, but steps.csv's sub-iterations add up to "
+                           f"{counts.sum()}: expected one row per sub-iteration of this run")
+    last = np.cumsum(counts) - 1
+    out = {k: np.asarray(v)[last] for k, v in rows.items() if k != "iteration"}
+    out["time"] = np.asarray(steps["time"])
+    return out
+

@@ -19,6 +19,7 @@ from . import browser  # noqa: E402
 from .body import (around, azimuthal_mean, meridian_stations, meridians, separation_azimuth,  # noqa: E402
                    with_crossflow_friction)
 from .extract import read_csv  # noqa: E402
+from .propulsor import propulsor_per_step  # noqa: E402
 from .motion import axis_from_vertical_deg, body_axis, fall_components, gravity_direction, water_path  # noqa: E402
 from .solution import read_solution  # noqa: E402
 from .errors import HarnessError  # noqa: E402
@@ -319,7 +320,7 @@ def _time_history(rung_dir, pic):
     path = rung_dir / "runs" / pic["run"] / f"{name}.csv"
     if not path.exists():
         return None
-    t = read_csv(path)
+    t = propulsor_per_step(path.parent) if name == "propulsor" else read_csv(path)
     if name == "motion" and pic.get("gravity") and column in ("vertical_velocity", "horizontal_speed",
                                                                "axis_from_vertical"):
         down, _ = gravity_direction(pic["gravity"], f"picture of run '{pic['run']}'")

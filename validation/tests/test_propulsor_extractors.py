@@ -2,7 +2,9 @@
 momentum fluxes against T and Q, and the slipstream's peak against momentum theory."""
 import json
 import math
+import tempfile
 import unittest
+from pathlib import Path
 
 import numpy as np
 
@@ -10,7 +12,7 @@ from support import rung_in_temp_dir
 
 from harness.errors import HarnessError
 from harness.extract import Context, extract
-from harness.propulsor import plane
+from harness.propulsor import plane, propulsor_per_step
 from harness.solution import Zone
 
 RUNG = """
@@ -131,3 +133,27 @@ class PropulsorExtractors(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class PropulsorPerStep(unittest.TestCase):
+    """propulsor.csv's rows (one per sub-iteration) taken at the end of each physical step."""
+
+    def write(self, rows, subiterations):
+        d = Path(tempfile.mkdtemp())
+        (d / "propulsor.csv").write_text("iteration,rps,advance_speed,advance_ratio,thrust,torque,resistance\n" +
+                                         "".join(f"{300 + i},{10 + i},0.8,0.7,{0.1 * i},0.01,0.2\n"
+                                                 for i in range(rows)))
+        (d / "steps.csv").write_text("step,time,subiterations\n" +
+                                     "".join(f"{n + 1},{0.02 * (n + 1)},{s}\n" for n, s in enumerate(subiterations)))
+        return d
+
+    def test_each_steps_last_sub_iteration(self):
+        t = propulsor_per_step(self.write(7, [3, 2, 2]))
+        np.testing.assert_allclose(t["time"], [0.02, 0.04, 0.06])
+        np.testing.assert_allclose(t["rps"], [12, 14, 16])
+        np.testing.assert_allclose(t["thrust"], [0.2, 0.4, 0.6])
+        self.assertNotIn("iteration", t)
+
+    def test_rows_that_are_not_the_steps_sub_iterations_are_refused(self):
+        with self.assertRaisesRegex(HarnessError, "7 rows, but steps.csv's sub-iterations add up to 6"):
+            propulsor_per_step(self.write(7, [3, 2, 1]))
