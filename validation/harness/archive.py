@@ -13,10 +13,10 @@ import tarfile
 from pathlib import Path
 
 from .errors import HarnessError
+from .runner import RUN_RECORD, RUN_STARTED
 
-RUN_RECORD = "harness_run.json"  # runner.RUN_RECORD (imported lazily there: no cycle here)
-LEFT_OUT = {"restart.h5", "solution.cgns", ".narwhal.lock", "harness_run_started.json"}
 RESTART = "restart.h5"
+LEFT_OUT = {RESTART, "solution.cgns", ".narwhal.lock", RUN_STARTED}
 SUFFIX = ".tar.xz"
 
 
