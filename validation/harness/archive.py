@@ -92,4 +92,3 @@ def unpack(archive_dir, report_dir):
             raise HarnessError(f"{tarball}: not a run archive ({e})")
         written.append(run_dir)
     return written
-

@@ -165,4 +165,3 @@ def propulsor_per_step(run_dir):
     out = {k: np.asarray(v)[last] for k, v in rows.items() if k != "iteration"}
     out["time"] = np.asarray(steps["time"])
     return out
-

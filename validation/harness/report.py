@@ -549,7 +549,12 @@ def _rung_page(rung_dir, res):
         for i, pic in enumerate(res["pictures"]):
             if pic.get("error"):
                 body += f"<p>{html.escape(pic['title'])}: {html.escape(pic['error'])}</p>"
-            if _plot_picture(rung_dir, pic, rung_dir / f"picture_{i}.png"):
+            try:
+                drawn = _plot_picture(rung_dir, pic, rung_dir / f"picture_{i}.png")
+            except HarnessError as e:  # a run's files that disagree: said on the page, the report goes on
+                body += f"<p>{html.escape(pic['title'])}: {html.escape(str(e))}</p>"
+                continue
+            if drawn:
                 body += f"<img src='picture_{i}.png' alt='{html.escape(pic['title'])}'>"
                 if pic.get("reference"):
                     body += f"<p class=why>Reference points: {html.escape(pic['reference']['source'])}</p>"
