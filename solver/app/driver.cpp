@@ -93,6 +93,10 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
   j["cost"] = {{"seconds_per_cycle", s.seconds_per_cycle}, {"peak_bytes_per_cell", s.peak_bytes_per_cell}};
   j["cfl_cuts"] = s.cfl_cuts;
   j["cfl_ceiling_cuts"] = s.cfl_ceiling_cuts;
+  j["retreats"] = nlohmann::ordered_json::array();
+  for (const RetreatRecord& r : s.retreats)
+    j["retreats"].push_back(
+        {{"diverged_at", r.diverged_at}, {"back_to", r.back_to}, {"cfl_ceiling", r.cfl_ceiling}, {"reason", r.reason}});
   j["final_residual"] = {{"p", last.l2[0]}, {"u", last.l2[1]}, {"v", last.l2[2]}, {"w", last.l2[3]}};
   j["settings"] = {{"reynolds", c.flow.reynolds},
                    {"beta", c.flow.beta},
@@ -116,6 +120,7 @@ void write_run_json(const std::string& path, const CaseConfig& c, const Grid& g,
                    {"turbulence_start_force_span", c.turbulence.start.force_span.value_or(0.0)},
                    {"turbulence_sustain_freestream", c.turbulence.sustain_freestream},
                    {"turbulence_omega_wall", c.turbulence.omega_wall},
+                   {"retreats", c.solver.retreats},
                    {"stall_window", c.solver.stall_window},
                    {"stall_factor", c.solver.stall_factor},
                    {"turbulence_drop", c.solver.turbulence_target()},
@@ -406,26 +411,21 @@ class SteadyRun {
 
   void iterate() {
     started_ = Clock::now();
-    try {
-      while (s_.status == RunStatus::MaxIterations && s_.iterations < max_it_) {
-        const int it = s_.iterations + 1;
-        step();
-        measure_forces();
-        if (propulsion_) record_propulsion(it);
-        force_steadiness_.observe(forces_);
-        const std::string turned = coupling_->observe_forces(it, forces_);
-        if (!turned.empty() && root_ && !opt_.progress) fmt::print("narwhal: {}\n", turned);
-        if (flow_rate_) flow_rate_->update(g_, field_, faces_);
-        if (history_) history_->write(it, elapsed(), monitors_.last, forces_, monitors_.turb_res);
-        s_.iterations = it;
-        s_.residual_drop = monitors_.drop;
-        if (judge_convergence(it)) break;
-        if (c_.output.restart_interval > 0 && it % c_.output.restart_interval == 0) checkpoint(it);
-        show_progress(it);
+    while (s_.status == RunStatus::MaxIterations && s_.iterations < max_it_) {
+      const int it = s_.iterations + 1;
+      try {
+        advance(it);
+        if (s_.status == RunStatus::MaxIterations) {
+          keep_last_good(it);
+          if (c_.output.restart_interval > 0 && it % c_.output.restart_interval == 0) checkpoint(it);
+        }
+      } catch (const DivergenceError& e) {
+        s_.status = RunStatus::Diverged;
+        s_.message = fmt::format("iteration {}: {}", it, e.what());
       }
-    } catch (const DivergenceError& e) {
-      s_.status = RunStatus::Diverged;
-      s_.message = fmt::format("iteration {}: {}", s_.iterations + 1, e.what());
+      if (s_.status == RunStatus::Diverged && retreat(it)) continue;
+      if (s_.status != RunStatus::MaxIterations) break;
+      show_progress(it);
     }
     // A resumed run that had nothing left to do has no residual of its own to locate.
     if (s_.status == RunStatus::MaxIterations && s_.iterations > info_.iteration &&
@@ -438,6 +438,76 @@ class SteadyRun {
                                turb_ ? fmt::format(", turbulence drop {:.2e}", monitors_.turb_drop) : std::string(),
                                describe_slowest_equation());
     close_loop();
+  }
+
+  // One iteration (a cycle with multigrid): the update, forces, controllers, history, and
+  // the verdict (s_.status).
+  void advance(int it) {
+    step();
+    measure_forces();
+    if (propulsion_) record_propulsion(it);
+    force_steadiness_.observe(forces_);
+    const std::string turned = coupling_->observe_forces(it, forces_);
+    if (!turned.empty() && root_ && !opt_.progress) fmt::print("narwhal: {}\n", turned);
+    if (flow_rate_) flow_rate_->update(g_, field_, faces_);
+    if (history_) history_->write(it, elapsed(), monitors_.last, forces_, monitors_.turb_res);
+    s_.iterations = it;
+    s_.residual_drop = monitors_.drop;
+    judge_convergence(it);
+  }
+
+  // The state at the lowest mean-flow residual so far, for a retreat (app/retreat.hpp).
+  // Iteration it's residual is that of the state iteration it - 1 left (the candidate):
+  // only now is that state known to be good. Its monitors are those of iteration it - 1,
+  // as a restart written there would carry them.
+  void keep_last_good(int it) {
+    if (c_.solver.retreats == 0) return;
+    if (!last_good_) last_good_ = std::make_unique<LastGoodState>();
+    if (!candidate_) candidate_ = std::make_unique<LastGoodState>();
+    if (candidate_->iteration > 0 && monitors_.drop <= monitors_.lowest_drop) std::swap(last_good_, candidate_);
+    candidate_->iteration = it;
+    candidate_->field = field_;  // same sizes after the first: copied in place
+    candidate_->info = run_state(it);
+    candidate_->forces = forces_;
+  }
+
+  // After a divergence at iteration `it` (s_.message says what): back to the last good
+  // state with the CFL ceiling lowered, unless solver.retreats are used up or there is
+  // none. True when the run goes on.
+  bool retreat(int it) {
+    if (!last_good_ || last_good_->iteration == 0 || static_cast<int>(s_.retreats.size()) >= c_.solver.retreats)
+      return false;
+    const LastGoodState& last = *last_good_;
+    const Real ceiling = kRetreatCflFactor * std::min(last.info.cfl, solver().rise_guard().ceiling());
+    return_to(last);
+    solver().lower_cfl_ceiling(ceiling);
+    s_.retreats.push_back({it, last.iteration, ceiling, s_.message});
+    if (root_)
+      fmt::print("{}narwhal: {}; back to the state of iteration {} (the lowest residual so far), the CFL at most "
+                 "{:.3g} from here (retreat {} of solver.retreats {})\n",
+                 opt_.progress ? "\n" : "", s_.message, last.iteration, ceiling, s_.retreats.size(),
+                 c_.solver.retreats);
+    *candidate_ = last;  // the next iteration's residual is that of this state again
+    s_.iterations = it;  // the diverged iteration was work done: the count goes on
+    s_.status = RunStatus::MaxIterations;
+    s_.message.clear();
+    return true;
+  }
+
+  // Fields, monitors and controllers as they were in `last` (what restore_state and
+  // open_monitors take from a restart).
+  void return_to(const LastGoodState& last) {
+    field_ = last.field;
+    const RestartInfo& r = last.info;
+    monitors_.restore(r);
+    stall_.restore(r.stall_anchor, r.stall_anchor_iteration);
+    force_steadiness_.restore(r.force_window, r.force_components);
+    solver().restore_cfl_control(r.cfl_control);
+    coupling_->restore({r.turbulence_starting, r.turbulence_start_ended, r.start_window, r.start_components});
+    if (flow_rate_ && r.body_force > 0.0) flow_rate_->set_magnitude(r.body_force);
+    if (propulsion_) propulsion_->restore(r.propulsor_state);
+    forces_ = last.forces;
+    s_.residual_drop = monitors_.drop;
   }
 
   // The propulsor after an iteration (collective: its inflow, the controller's step on the
@@ -778,6 +848,15 @@ class SteadyRun {
 
   void checkpoint(int it) {
     solver().check_finite();
+    RestartInfo r = run_state(it);
+    FlowField& out = assemble();
+    const FlowField* previous = dual_time_ ? &assemble_previous_level(r) : nullptr;
+    if (root_) write_restart(restart_path_, pieces_ ? whole_ : g_, out, r, c_.text, previous);
+    last_restart_ = it;
+  }
+
+  // What a restart carries besides the fields: the monitors and every controller's state.
+  RestartInfo run_state(int it) {
     RestartInfo r{it, elapsed(), {-1.0, -1.0}, flow_rate_ ? flow_rate_->magnitude() : -1.0, c_.turbulence.model};
     monitors_.store(r);
     r.cfl_control = solver().cfl_control();
@@ -792,10 +871,7 @@ class SteadyRun {
     r.start_components = start.components;
     if (propulsion_) r.propulsor_state = propulsion_->checkpoint();
     if (controls_) r.control_state = controls_->checkpoint();
-    FlowField& out = assemble();
-    const FlowField* previous = dual_time_ ? &assemble_previous_level(r) : nullptr;
-    if (root_) write_restart(restart_path_, pieces_ ? whole_ : g_, out, r, c_.text, previous);
-    last_restart_ = it;
+    return r;
   }
 
   void show_progress(int it) {
@@ -850,6 +926,10 @@ class SteadyRun {
       fmt::print("narwhal: {} correction(s) rejected and the CFL cut: the SGS sweeps diverged at the CFL of the "
                  "moment (NewtonSolver::relax_and_update)\n",
                  s_.cfl_cuts);
+    if (!s_.retreats.empty())
+      fmt::print("narwhal: went back {} time(s) from a divergence to the lowest-residual state, the CFL ceiling "
+                 "lowered each time (app/retreat.hpp)\n",
+                 s_.retreats.size());
     if (s_.cfl_ceiling_cuts > 0)
       fmt::print("narwhal: the residual rose in successive iterations {} time(s); the CFL ceiling is now {:.3g} "
                  "(implicit/cfl_rise_guard.hpp)\n",
@@ -953,6 +1033,8 @@ class SteadyRun {
   std::map<std::string, ForceCoefficients> forces_;
   std::map<std::string, std::vector<WallFace>> faces_;  // reused every iteration
   RunSummary s_;
+  std::unique_ptr<LastGoodState> last_good_;  // what a retreat returns to (app/retreat.hpp)
+  std::unique_ptr<LastGoodState> candidate_;  // the latest state, until the next residual judges it
   StallDetector stall_{c_.solver.stall_window, c_.solver.stall_factor};
   ForceSteadiness force_steadiness_{c_.solver.force_window, c_.solver.force_tolerance};
   Clock::time_point started_ = Clock::now(), last_print_ = Clock::now();

@@ -6,6 +6,7 @@
 #include <vector>
 #include <string>
 
+#include "app/retreat.hpp"
 #include "config/case_config.hpp"
 
 namespace narwhal {
@@ -47,7 +48,8 @@ struct RunSummary {
   // Newton corrections of this process's run rejected on the finest level, each followed
   // by a CFL cut (NewtonSolver::relax_and_update).
   int cfl_cuts = 0;
-  int cfl_ceiling_cuts = 0;  // sustained residual rises that lowered the CFL ceiling (implicit/cfl_rise_guard.hpp)
+  int cfl_ceiling_cuts = 0;
+  std::vector<RetreatRecord> retreats;  // divergences the run went back from (app/retreat.hpp)  // sustained residual rises that lowered the CFL ceiling (implicit/cfl_rise_guard.hpp)
 };
 
 RunSummary run_case(const CaseConfig& c, const RunOptions& opt);

@@ -25,11 +25,23 @@ TurbulenceCoupling::TurbulenceCoupling(const TurbulenceSettings& s, Grid& g, Flo
       if (in_cycle_) last_ = model_->advance(g_, f_, fp_, cfl);
     });
   }
-  starting_ = restored ? restored->starting : start_forces_.enabled();
   if (restored) {
-    start_ended_at_ = restored->ended_at;
-    start_forces_.restore(restored->window, restored->components);
+    restore(*restored);
+    return;
   }
+  starting_ = start_forces_.enabled();
+  use_current_scheme();
+}
+
+void TurbulenceCoupling::restore(const TurbulenceStartState& state) {
+  if (!model_) return;
+  starting_ = state.starting;
+  start_ended_at_ = state.ended_at;
+  start_forces_.restore(state.window, state.components);
+  use_current_scheme();
+}
+
+void TurbulenceCoupling::use_current_scheme() {
   if (starting_)
     use_scheme(settings_.start.coupling, *settings_.start.relaxation, *settings_.start.iterations);
   else

@@ -50,11 +50,14 @@ class TurbulenceCoupling {
   std::string observe_forces(int iteration, const std::map<std::string, ForceCoefficients>& forces);
 
   TurbulenceStartState start_state() const;
+  // Back to a start state kept earlier (a retreat, app/retreat.hpp), with its update scheme.
+  void restore(const TurbulenceStartState& state);
 
  private:
   // The update's scheme: `in_cycle` (the model in the smoothing) and its relaxation
   // and iterations.
   void use_scheme(const std::string& coupling, Real relaxation, int iterations);
+  void use_current_scheme();  // the start's scheme while starting, else the model's
 
   Grid& g_;
   FlowField& f_;

@@ -732,6 +732,10 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                                     "the residual growth that counts as divergence", Range::above(1));
   s.regrowth_factor = r.number_or("solver.regrowth_factor", s.regrowth_factor,
                                   "the growth above its lowest value that counts as divergence", Range::above(1));
+  s.retreats = r.integer_or("solver.retreats", s.retreats,
+                             "divergences a steady run returns from to its lowest-residual state, the CFL ceiling "
+                             "halved each time (0: it stops at the first)",
+                             Range::between(0, 100));
   s.stall_window = r.integer_or("solver.stall_window", s.stall_window,
                                 "iterations without a fall by stall_factor that end a run as stalled (0: never)",
                                 Range::between(0, 1e9));

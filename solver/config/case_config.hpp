@@ -73,6 +73,11 @@ struct SolverConfig {
   // ruined, before divergence_factor notices. The converging ladder runs regrow at most 245-fold
   // (a turbulent duct's start).
   Real regrowth_factor = 1e3;
+  // A steady run that diverges (either factor above, a non-finite state, sweeps that no CFL
+  // cut saves) returns to its state at the lowest mean-flow residual so far and goes on
+  // with the CFL ceiling halved, at most this many times (app/retreat.hpp; 0: it stops at
+  // the first divergence). A run that never diverges is unchanged by it.
+  int retreats = 3;
   // Stalled when the convergence measure has not fallen by stall_factor for
   // stall_window iterations (app/stall_detector.hpp; 0: never). 1000: well above the
   // longest such stretch of a ladder run that went on to converge (turbulence/DESIGN.md,

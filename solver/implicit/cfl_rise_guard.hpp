@@ -42,19 +42,28 @@ class CflRiseGuard {
   // The CFL reached its cap: from now on sustained rises lower the ceiling.
   void arm() { s_.armed = true; }
 
-  // This iteration's residual norm and the CFL the last iteration used; the ceiling
-  // never goes below `floor`. True when the ceiling was lowered (only when armed).
+  // This iteration's residual norm and the CFL the last iteration used; a rise never
+  // lowers the ceiling below `floor`. True when the ceiling was lowered (only when armed).
   bool observe(Real norm, Real last_cfl, Real floor) {
     const auto [older, last] = s_.recent;
     const bool sustained = older > 0.0 && last > older && norm > last && norm > rise_limit_ * older;
     if (sustained && s_.armed && last_cfl > 0.0) {
-      s_.ceiling = std::max(floor, std::min(s_.ceiling, last_cfl * std::min(kCut, older / norm)));
+      // Never raised: a retreat (lower_ceiling) may have put it below the floor.
+      s_.ceiling = std::min(s_.ceiling, std::max(floor, last_cfl * std::min(kCut, older / norm)));
       s_.recent = {-1.0, -1.0};
       ++cuts_;
       return true;
     }
     s_.recent = {last, norm};
     return false;
+  }
+
+  // A ceiling imposed from outside (a retreat from a divergence, app/retreat.hpp): it only
+  // lowers the ceiling, arms the guard and starts a new watch.
+  void lower_ceiling(Real ceiling) {
+    s_.ceiling = std::min(s_.ceiling, ceiling);
+    s_.armed = true;
+    s_.recent = {-1.0, -1.0};
   }
 
   Real ceiling() const { return s_.ceiling; }

@@ -98,6 +98,8 @@ class NewtonSolver {
     recovering_ = c.recovering;
     guard_.restore(c.rise_guard);
   }
+  // A retreat from a divergence (app/retreat.hpp) caps SER's CFL from here on.
+  void lower_cfl_ceiling(Real ceiling) { guard_.lower_ceiling(ceiling); }
   Real reference_norm() const { return ref_norm_; }
   // The CFL ceiling that sustained residual rises lower (ser_cfl).
   const CflRiseGuard& rise_guard() const { return guard_; }

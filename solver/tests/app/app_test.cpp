@@ -647,6 +647,7 @@ TEST(Robustness, ResidualRegrowthAboveItsLowestStopsTheRun) {
   c.solver.newton.cfl_start = 1e8;
   c.solver.newton.cfl_max = 1e12;
   c.solver.regrowth_factor = 10.0;
+  c.solver.retreats = 0;  // the rule's own verdict, not a retreat from it
   RunOptions o;
   o.out_dir = (test::fresh_temp_dir("narwhal_regrowth_test")).string();
   o.max_iterations = 50;

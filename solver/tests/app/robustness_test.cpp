@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 
 #include <nlohmann/json.hpp>
@@ -75,7 +76,7 @@ TEST(Hardening, NonFiniteAndOutOfRangeNumbersAreRefused) {
         "solver.fd_epsilon=0.0", "output.reference_area=0.0", "output.reference_length=-inf",
         "bc.inlet.velocity=[nan, 0.0, 0.0]", "bc.top.velocity=[1.0, inf, 0.0]", "turbulence.intensity=-1.0",
         "flow.reynolds=inf", "flow.beta=-nan", "flow.initial_velocity=[0.0, nan, 0.0]", "solver.cfl_growth=-1.0",
-        "solver.cfl_growth=1.0", "solver.cfl_growth=nan", "solver.multigrid_min_cells=0"}) {
+        "solver.cfl_growth=1.0", "solver.cfl_growth=nan", "solver.multigrid_min_cells=0", "solver.retreats=-1"}) {
     const std::string key = s.substr(0, s.find('='));
     const std::string e = error_with({s});
     EXPECT_NE(e.find("key '" + key + "'"), std::string::npos) << s << ": " << e;
@@ -507,6 +508,68 @@ TEST(Hardening, RunJsonStaysValidWithNonFiniteNumbers) {
   ASSERT_EQ(s.status, RunStatus::Diverged);
   const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(o.out_dir) / "run.json"));  // throws if invalid
   EXPECT_EQ(j["status"], "diverged");
+}
+
+// solver.retreats (app/retreat.hpp). The small plate at beta 1e-4 started at CFL 1e4
+// diverges at iteration 81 when it may not retreat; allowed to, it goes back to its
+// lowest-residual state with the CFL ceiling halved, and runs on.
+const std::vector<std::string> kUnstablePlate{"grid.cells_plate=24", "grid.cells_runup=8", "grid.cells_normal=24",
+                                              "flow.beta=1e-4",       "solver.cfl_start=1e4", "solver.cfl_max=1e12"};
+
+TEST(Retreat, ADivergedRunGoesBackToItsLowestResidualWithTheCflCeilingHalved) {
+  RunOptions o;
+  o.max_iterations = 200;
+  std::vector<std::string> none = kUnstablePlate;
+  none.emplace_back("solver.retreats=0");
+  o.out_dir = test::fresh_temp_dir("narwhal_retreat_none").string();
+  const RunSummary stopped = run_case(load_case(test::source_path(kPlate), none), o);
+  ASSERT_EQ(stopped.status, RunStatus::Diverged) << stopped.message;
+  EXPECT_TRUE(stopped.retreats.empty());
+
+  o.out_dir = test::fresh_temp_dir("narwhal_retreat").string();
+  const RunSummary s = run_case(load_case(test::source_path(kPlate), kUnstablePlate), o);
+  EXPECT_EQ(s.status, RunStatus::MaxIterations) << s.message;
+  EXPECT_EQ(s.iterations, 200);
+  ASSERT_FALSE(s.retreats.empty());
+  EXPECT_EQ(s.retreats[0].diverged_at, stopped.iterations);  // the same path up to the first divergence
+  EXPECT_NE(s.retreats[0].reason.find("above its lowest"), std::string::npos) << s.retreats[0].reason;
+  Real previous = std::numeric_limits<Real>::infinity();
+  for (const RetreatRecord& r : s.retreats) {
+    EXPECT_LT(r.back_to, r.diverged_at);
+    EXPECT_LE(r.cfl_ceiling, 0.5 * previous);
+    previous = r.cfl_ceiling;
+  }
+  // Every CFL after the last retreat stays under its ceiling (history.csv has 7 digits).
+  const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(o.out_dir) / "run.json"));
+  ASSERT_EQ(j["retreats"].size(), s.retreats.size());
+  EXPECT_EQ(j["retreats"][0]["back_to"].get<int>(), s.retreats[0].back_to);
+  EXPECT_EQ(j["settings"]["retreats"].get<int>(), 3);
+  for (const std::string& row : test::history_rows((fs::path(o.out_dir) / "history.csv").string())) {
+    const auto a = row.find(','), b = row.find(',', a + 1);  // iteration, CFL, ...
+    if (std::stoi(row.substr(0, a)) > s.retreats.back().diverged_at) {
+      EXPECT_LE(std::stod(row.substr(a + 1, b - a - 1)), s.retreats.back().cfl_ceiling * (1.0 + 1e-6)) << row;
+    }
+  }
+}
+
+// A run that never diverges follows exactly the path it has without retreats: the kept
+// state is only read by a retreat.
+TEST(Retreat, ARunThatNeverDivergesIsUnchangedByThem) {
+  const std::vector<std::string> small{"grid.cells_plate=24", "grid.cells_runup=8", "grid.cells_normal=24"};
+  RunOptions o;
+  o.max_iterations = 60;
+  std::vector<std::string> none = small;
+  none.emplace_back("solver.retreats=0");
+  const fs::path without = test::fresh_temp_dir("narwhal_retreat_off"), with = test::fresh_temp_dir("narwhal_retreat_on");
+  o.out_dir = without.string();
+  run_case(load_case(test::source_path(kPlate), none), o);
+  o.out_dir = with.string();
+  const RunSummary s = run_case(load_case(test::source_path(kPlate), small), o);
+  EXPECT_TRUE(s.retreats.empty());
+  const std::vector<std::string> a = test::history_rows((without / "history.csv").string()),
+                                 b = test::history_rows((with / "history.csv").string());
+  ASSERT_EQ(a.size(), 60u);
+  EXPECT_EQ(a, b);
 }
 
 TEST(RunCost, TimePerCycleAndMemoryPerCellAreReported) {

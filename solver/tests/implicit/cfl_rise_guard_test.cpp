@@ -68,6 +68,19 @@ TEST(CflRiseGuard, TheCeilingNeverRises) {
   EXPECT_EQ(g.ceiling(), 50.0);
 }
 
+// A retreat from a divergence (app/retreat.hpp) may put the ceiling below the floor of the
+// guard's own cuts; a later rise must not lift it back there.
+TEST(CflRiseGuard, AnImposedCeilingBelowTheFloorIsKeptAndArms) {
+  CflRiseGuard g;
+  g.lower_ceiling(5.0);
+  EXPECT_EQ(g.ceiling(), 5.0);
+  EXPECT_TRUE(g.state().armed);
+  EXPECT_TRUE(last_cuts(g, {1.0, 1.3, 1.6}, 5.0, 8.0));
+  EXPECT_EQ(g.ceiling(), 5.0);
+  g.lower_ceiling(20.0);  // never raised
+  EXPECT_EQ(g.ceiling(), 5.0);
+}
+
 TEST(CflRiseGuard, RestoredStateContinuesAsTheUninterruptedGuard) {
   CflRiseGuard a;
   EXPECT_FALSE(last_cuts(a, {1.0, 2.0}, 100.0));
