@@ -508,12 +508,20 @@ def _plot_residuals(rung_dir, res, path):
     return True
 
 
+def _retreat_note(retreats):
+    """What a run's status cell adds when the run went back from divergences (solver.retreats)."""
+    if not retreats:
+        return ""
+    return f" (went back {retreats} time{'s' if retreats > 1 else ''} from a divergence: run.json retreats)"
+
+
 def _rung_page(rung_dir, res):
     rows = "".join(
         f"<tr><td>{html.escape(r['id'])}</td><td>{html.escape(r.get('peer_version') or r.get('code', 'narwhal'))}</td>"
         f"<td class='{html.escape(str(r.get('status')))}'>{_fmt(r.get('status'))}"
         f"{' (reused from an earlier sitting)' if r.get('reused') else ''}"
-        f"{' (continued from the restart of an interrupted sitting)' if r.get('continued') else ''}</td>"
+        f"{' (continued from the restart of an interrupted sitting)' if r.get('continued') else ''}"
+        f"{_retreat_note(r.get('retreats'))}</td>"
         f"<td class=num>{_fmt(r.get('ranks', 1))}</td>"
         f"<td class=num>{_fmt(r.get('iterations'))}</td><td class=num>{_fmt(r.get('wall_seconds'))}</td>"
         f"<td class=num>{_fmt(r.get('cells'))}</td><td class=num>{_fmt(r.get('residual_drop'))}</td>"

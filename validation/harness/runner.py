@@ -371,6 +371,8 @@ def _run_narwhal(r, rd, n, narwhal, out_dir, remaining, key=None, continue_run=F
             data = json.load(f)
         for k in ("iterations", "wall_seconds", "cells", "residual_drop", "status", "message"):
             info[k] = data.get(k)
+        # Divergences the run went back from (solver.retreats): the report says so beside its status.
+        info["retreats"] = len(data.get("retreats") or [])
         info.update({k: data["provenance"][k] for k in ("compiler", "flags", "version")})
     if key is not None and info.get("exit_code") in REUSABLE:
         (rd / RUN_RECORD).write_text(json.dumps({"key": key, "info": info}, indent=1))

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import support  # noqa: F401
 
+from harness import report
 from harness.archive import pack, unpack
 from harness.casefile import load_rung
 from harness.errors import HarnessError
@@ -129,6 +130,14 @@ class ResumedReport(unittest.TestCase):
         self.assertTrue(res["runs"][0]["reused"])
         self.assertEqual(res["runs"][0]["iterations"], 7)
         self.assertEqual(self.runs_made(exe, resume=False)[0], 1, "without --resume every run is made")
+
+    def test_a_run_that_went_back_from_a_divergence_says_how_often(self):
+        exe = counting_narwhal(self.root)
+        exe.write_text(exe.read_text().replace('"iterations": 7,', '"iterations": 7, "retreats": [{}, {}],'))
+        res = self.runs_made(exe)[1]
+        self.assertEqual(res["runs"][0]["retreats"], 2)
+        self.assertIn("went back 2 times from a divergence", report._retreat_note(res["runs"][0]["retreats"]))
+        self.assertEqual(report._retreat_note(0), "")
 
     def test_a_changed_case_folder_or_uncommitted_solver_sources_run_again(self):
         exe = counting_narwhal(self.root)
