@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -336,8 +337,6 @@ class SteadyRun {
       fail("{}: the run was written with time steps of {:g}; this case's time.step is {:g} (a BDF2 run continues "
            "with the step it had)", *opt_.restart, info_.time_step_size, c_.time.step);
     if (own_restart_) last_restart_ = info_.iteration;
-    if (flow_rate_ && info_.body_force > 0.0) flow_rate_->set_magnitude(info_.body_force);
-    if (propulsion_) propulsion_->restore(info_.propulsor_state);
   }
 
   // Single grid: one Newton-SGS iteration per step; multigrid: one FAS cycle. The
@@ -356,14 +355,8 @@ class SteadyRun {
     } else {
       single_ = std::make_unique<NewtonSolver>(g_, field_, fp_, c_.solver.newton);
     }
-    if (opt_.restart) {
-      solver().restore_cfl_control(info_.cfl_control);
-    }
-    TurbulenceStartState restored;
-    if (opt_.restart)
-      restored = {info_.turbulence_starting, info_.turbulence_start_ended, info_.start_window, info_.start_components};
     coupling_ = std::make_unique<TurbulenceCoupling>(c_.turbulence, g_, field_, fp_, mg_.get(),
-                                                     opt_.restart ? &restored : nullptr, comm_);
+                                                     opt_.restart.has_value(), comm_);
     turb_ = coupling_->model();
     fill_ghosts(g_, field_, fp_);
   }
@@ -383,14 +376,25 @@ class SteadyRun {
     if (!opt_.restart) return;
     // The restored state's monitors are those of the iteration that wrote it; a run
     // resumed from the restart its converged end wrote has nothing left to do.
-    monitors_.restore(info_);
-    stall_.restore(info_.stall_anchor, info_.stall_anchor_iteration);
-    force_steadiness_.restore(info_.force_window, info_.force_components);
-    s_.residual_drop = monitors_.drop;
+    restore_run_state(info_);
     measure_forces();
     // (A dual-time run has its steps to take, whatever state it starts from: a steady
     // run's converged end is where a release begins.)
     if (!c_.time.unsteady() && info_.iteration > 0 && converged()) s_.status = RunStatus::Converged;
+  }
+
+  // The monitors and every controller as `r` carries them (run_state() writes it): from a
+  // restart, or from the state a retreat returns to. The controls of a dual-time run are
+  // restored with its time levels (march()), as they turn the grid.
+  void restore_run_state(const RestartInfo& r) {
+    monitors_.restore(r);
+    stall_.restore(r.stall_anchor, r.stall_anchor_iteration);
+    force_steadiness_.restore(r.force_window, r.force_components);
+    solver().restore_cfl_control(r.cfl_control);
+    coupling_->restore({r.turbulence_starting, r.turbulence_start_ended, r.start_window, r.start_components});
+    if (flow_rate_ && r.body_force > 0.0) flow_rate_->set_magnitude(r.body_force);
+    if (propulsion_) propulsion_->restore(r.propulsor_state);
+    s_.residual_drop = monitors_.drop;
   }
 
   void announce() const {
@@ -459,14 +463,14 @@ class SteadyRun {
   // The state at the lowest mean-flow residual so far, for a retreat (app/retreat.hpp).
   // Iteration it's residual is that of the state iteration it - 1 left (the candidate):
   // only now is that state known to be good. Its monitors are those of iteration it - 1,
-  // as a restart written there would carry them.
+  // as a restart written there would carry them. What is kept is what a restart keeps.
   void keep_last_good(int it) {
     if (c_.solver.retreats == 0) return;
-    if (!last_good_) last_good_ = std::make_unique<LastGoodState>();
-    if (!candidate_) candidate_ = std::make_unique<LastGoodState>();
-    if (candidate_->iteration > 0 && monitors_.drop <= monitors_.lowest_drop) std::swap(last_good_, candidate_);
+    if (candidate_ && monitors_.drop <= monitors_.lowest_drop) std::swap(last_good_, candidate_);
+    if (!candidate_) candidate_.emplace();
     candidate_->iteration = it;
-    candidate_->field = field_;  // same sizes after the first: copied in place
+    candidate_->Q = field_.Q;  // same sizes after the first: copied in place
+    candidate_->turb = field_.turb;
     candidate_->info = run_state(it);
     candidate_->forces = forces_;
   }
@@ -475,8 +479,7 @@ class SteadyRun {
   // state with the CFL ceiling lowered, unless solver.retreats are used up or there is
   // none. True when the run goes on.
   bool retreat(int it) {
-    if (!last_good_ || last_good_->iteration == 0 || static_cast<int>(s_.retreats.size()) >= c_.solver.retreats)
-      return false;
+    if (!last_good_ || static_cast<int>(s_.retreats.size()) >= c_.solver.retreats) return false;
     const LastGoodState& last = *last_good_;
     const Real ceiling = kRetreatCflFactor * std::min(last.info.cfl, solver().rise_guard().ceiling());
     return_to(last);
@@ -494,20 +497,22 @@ class SteadyRun {
     return true;
   }
 
-  // Fields, monitors and controllers as they were in `last` (what restore_state and
-  // open_monitors take from a restart).
+  // Back to `last` as a restart written there would bring the run back: its variables,
+  // the viscosity derived from them, its monitors and controllers.
   void return_to(const LastGoodState& last) {
-    field_ = last.field;
-    const RestartInfo& r = last.info;
-    monitors_.restore(r);
-    stall_.restore(r.stall_anchor, r.stall_anchor_iteration);
-    force_steadiness_.restore(r.force_window, r.force_components);
-    solver().restore_cfl_control(r.cfl_control);
-    coupling_->restore({r.turbulence_starting, r.turbulence_start_ended, r.start_window, r.start_components});
-    if (flow_rate_ && r.body_force > 0.0) flow_rate_->set_magnitude(r.body_force);
-    if (propulsion_) propulsion_->restore(r.propulsor_state);
+    field_.Q = last.Q;
+    field_.turb = last.turb;
+    derive_viscosity();
+    restore_run_state(last.info);
     forces_ = last.forces;
-    s_.residual_drop = monitors_.drop;
+  }
+
+  // The eddy viscosity (and non-linear stress) of the variables as they are now, after
+  // they were set or the grid moved other than by an iteration. (The next residual
+  // evaluation fills the ghosts of the viscosity.)
+  void derive_viscosity() {
+    fill_ghosts(g_, field_, fp_);
+    if (turb_) turb_->update_viscosity(g_, field_, fp_);
   }
 
   // The propulsor after an iteration (collective: its inflow, the controller's step on the
@@ -645,10 +650,7 @@ class SteadyRun {
     motion_->begin_step(dual_time_->time() - dt, dt, dual_time_->term().coefficients());
     carry_propulsor();
     after_walls_moved();
-    if (turb_) {
-      fill_ghosts(g_, field_, fp_);
-      turb_->update_viscosity(g_, field_, fp_);
-    }
+    if (turb_) derive_viscosity();
   }
 
   // The flow's loads on a free body: every wall group's and the propulsor's (§9.5), in
@@ -1033,8 +1035,8 @@ class SteadyRun {
   std::map<std::string, ForceCoefficients> forces_;
   std::map<std::string, std::vector<WallFace>> faces_;  // reused every iteration
   RunSummary s_;
-  std::unique_ptr<LastGoodState> last_good_;  // what a retreat returns to (app/retreat.hpp)
-  std::unique_ptr<LastGoodState> candidate_;  // the latest state, until the next residual judges it
+  std::optional<LastGoodState> last_good_;  // what a retreat returns to (app/retreat.hpp)
+  std::optional<LastGoodState> candidate_;  // the latest state, until the next residual judges it
   StallDetector stall_{c_.solver.stall_window, c_.solver.stall_factor};
   ForceSteadiness force_steadiness_{c_.solver.force_window, c_.solver.force_tolerance};
   Clock::time_point started_ = Clock::now(), last_print_ = Clock::now();

@@ -11,6 +11,7 @@
 // diverges follows exactly the path it had without this: the copy is only read by a retreat.
 #include <map>
 #include <string>
+#include <vector>
 
 #include "io/restart.hpp"
 #include "physics/flow.hpp"
@@ -18,11 +19,13 @@
 
 namespace narwhal {
 
-// The state a retreat returns to: the fields, and the monitors and controllers as a
-// restart carries them (io/restart.hpp), with the forces they were measured with.
+// The state a retreat returns to: what a restart carries (io/restart.hpp), the
+// variables and the monitors and controllers, with the forces they were measured with.
+// The viscosity is derived again on the return, as a restart derives it.
 struct LastGoodState {
   int iteration = 0;
-  FlowField field;
+  std::vector<GhostArray<State>> Q;
+  std::vector<GhostArray<TurbState>> turb;
   RestartInfo info;
   std::map<std::string, ForceCoefficients> forces;
 };

@@ -7,7 +7,7 @@
 namespace narwhal {
 
 TurbulenceCoupling::TurbulenceCoupling(const TurbulenceSettings& s, Grid& g, FlowField& f, const FlowParams& fp,
-                                       Multigrid* mg, const TurbulenceStartState* restored,
+                                       Multigrid* mg, bool from_restart,
                                        const Communicator& comm)
     : g_(g),
       f_(f),
@@ -16,7 +16,7 @@ TurbulenceCoupling::TurbulenceCoupling(const TurbulenceSettings& s, Grid& g, Flo
       model_(make_turbulence_model(s, g, comm)),
       start_forces_(settings_.start.window, *settings_.start.force_span) {
   if (!model_) return;
-  model_->initialize(g_, f_, fp_, restored != nullptr);
+  model_->initialize(g_, f_, fp_, from_restart);
   fill_ghosts(g_, f_, fp_);
   model_->update_viscosity(g_, f_, fp_);
   if (mg) {
@@ -25,11 +25,7 @@ TurbulenceCoupling::TurbulenceCoupling(const TurbulenceSettings& s, Grid& g, Flo
       if (in_cycle_) last_ = model_->advance(g_, f_, fp_, cfl);
     });
   }
-  if (restored) {
-    restore(*restored);
-    return;
-  }
-  starting_ = start_forces_.enabled();
+  starting_ = !from_restart && start_forces_.enabled();
   use_current_scheme();
 }
 

@@ -30,12 +30,12 @@ struct TurbulenceStartState {
 class TurbulenceCoupling {
  public:
   // Makes the model of `s` (none for laminar), initializes its variables (kept when
-  // `restored`, a restart) and the eddy viscosity, and attaches it to `mg` (may be
-  // null). A run from a uniform state begins with the start when the settings have
-  // one; a restart continues where `restored` says. `g`, `f` and `fp` outlive this
-  // object; `comm` is the ranks `g` is distributed over.
+  // `from_restart`) and the eddy viscosity, and attaches it to `mg` (may be null). A run
+  // from a uniform state begins with the start when the settings have one; a restart
+  // continues where restore() says. `g`, `f` and `fp` outlive this object; `comm` is the
+  // ranks `g` is distributed over.
   TurbulenceCoupling(const TurbulenceSettings& s, Grid& g, FlowField& f, const FlowParams& fp, Multigrid* mg,
-                     const TurbulenceStartState* restored, const Communicator& comm);
+                     bool from_restart, const Communicator& comm);
   TurbulenceCoupling(const TurbulenceCoupling&) = delete;  // the hook holds `this`
   TurbulenceCoupling& operator=(const TurbulenceCoupling&) = delete;
 
@@ -50,7 +50,7 @@ class TurbulenceCoupling {
   std::string observe_forces(int iteration, const std::map<std::string, ForceCoefficients>& forces);
 
   TurbulenceStartState start_state() const;
-  // Back to a start state kept earlier (a retreat, app/retreat.hpp), with its update scheme.
+  // The start's state as a restart or a retreat (app/retreat.hpp) kept it, with its update scheme.
   void restore(const TurbulenceStartState& state);
 
  private:
