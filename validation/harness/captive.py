@@ -25,7 +25,11 @@ from .schema import extractor
 
 COMPONENTS = ("X", "Y", "Z", "K", "M", "N")
 AGAINST = ("v", "w", "radians", "degrees")
-STATISTICS = ("slope", "standard_error")
+STATISTICS = ("slope", "standard_error", "iteration_error")
+# Body axes from the grid axes history.csv writes (motion/grid_axes.hpp: x_B = -x,
+# y_B = -y, z_B = z; moments alike): component -> (history column suffix, sign).
+BODY_AXES = {"X": ("cfx", -1.0), "Y": ("cfy", -1.0), "Z": ("cfz", 1.0),
+             "K": ("cmx", -1.0), "M": ("cmy", -1.0), "N": ("cmz", 1.0)}
 
 
 def _sweep(ctx, spec):
@@ -71,6 +75,37 @@ def coefficient(ctx, run_id, component, groups, length=None):
     return total
 
 
+def iteration_band(ctx, run_id, component, groups):
+    """Half the range of the coefficient over the run's last solver.force_window iterations
+    (run.json settings; history.csv): the iteration's part of the point's uncertainty. Of a
+    converged run it is below force_span times its largest force; of a point whose forces
+    still swing it is the swing's half-amplitude. The iterations a retreat undid (run.json
+    retreats: after back_to up to diverged_at) are not on the run's path and are left out."""
+    d = ctx.run_dir(run_id)
+    with open(d / "run.json") as f:
+        data = json.load(f)
+    window = int(data.get("settings", {}).get("force_window", 0))
+    if window < 2:
+        raise HarnessError(f"run.json of '{run_id}' gives no settings.force_window of two or more iterations "
+                           f"(got {window}): the iteration band needs it")
+    column, sign = BODY_AXES[component]
+    try:
+        rows = np.genfromtxt(d / "history.csv", delimiter=",", names=True, comments="#")
+    except (OSError, ValueError) as e:
+        raise HarnessError(f"history.csv of '{run_id}' cannot be read: {e}") from e
+    names = rows.dtype.names or ()
+    missing = [f"{g}_{column}" for g in groups if f"{g}_{column}" not in names]
+    if missing:
+        raise HarnessError(f"history.csv of '{run_id}' has no column {missing[0]!r}")
+    rows = np.atleast_1d(rows)
+    undone = np.zeros(rows.size, bool)
+    for r in data.get("retreats", []):
+        undone |= (rows["iteration"] > r["back_to"]) & (rows["iteration"] <= r["diverged_at"])
+    last = rows[~undone][-window:]
+    total = sign * sum(np.asarray(last[f"{g}_{column}"], float) for g in groups)
+    return 0.5 * float(np.ptp(total))
+
+
 def _groups(spec):
     groups = spec.get("groups")
     if not isinstance(groups, list) or not groups or not all(isinstance(g, str) for g in groups):
@@ -91,7 +126,7 @@ def _abscissa(ctx, run_id, value, against):
 
 
 def _points(ctx, spec, against):
-    """(abscissae, coefficients) of the sweep's runs, in the order of its values."""
+    """(sweep, abscissae, coefficients) of the sweep's runs, in the order of its values."""
     sweep = _sweep(ctx, spec)
     component = _choice(spec, "component", COMPONENTS)
     groups = _groups(spec)
@@ -109,12 +144,19 @@ def run_coefficient(ctx, spec, run_id):
     return coefficient(ctx, run_id, _choice(spec, "component", COMPONENTS), _groups(spec), spec.get("length"))
 
 
+def _bands(ctx, spec, sweep):
+    """Each run's iteration band (iteration_band), in the order of the sweep's values."""
+    component, groups = _choice(spec, "component", COMPONENTS), _groups(spec)
+    return np.array([iteration_band(ctx, rid, component, groups) for rid in sweep.run_ids])
+
+
 @extractor("sweep_coefficient", "sweep", "component", "groups", "length")
 def sweep_coefficient(ctx, spec, run_id):
-    """The coefficient against the swept variable (its own values, e.g. degrees)."""
+    """The coefficient against the swept variable (its own values, e.g. degrees), each point
+    with its iteration band."""
     sweep, x, y = _points(ctx, spec, "degrees")
     order = np.argsort(x)
-    return Curve(x[order], y[order], f"{spec['component']}' vs {sweep.variable}")
+    return Curve(x[order], y[order], f"{spec['component']}' vs {sweep.variable}", yerr=_bands(ctx, spec, sweep)[order])
 
 
 def linear_fit(x, y):
@@ -138,15 +180,21 @@ def linear_fit(x, y):
 def sweep_derivative(ctx, spec, run_id):
     """The linear derivative of a coefficient (Y'v, N'v with against = "v"; Z'w, M'w with
     "w"; Y'delta with "radians"), fitted by least squares to the sweep's points whose swept
-    value lies within max_angle (degrees) of zero; statistic = "standard_error" gives the
+    value lies within max_angle (degrees) of zero. statistic = "standard_error" gives the
     fit's standard error instead of the slope (the scatter of the points about the line:
-    non-linearity within the range and iteration error)."""
+    non-linearity within the range and iteration error); "iteration_error" the most the
+    slope can move when each point moves within its iteration band (iteration_band):
+    sum |x_i - mean x| band_i / sum (x_i - mean x)^2, the bands taken as worst case, not
+    as independent random errors, since an unconverged run's error is not random."""
     against = _choice(spec, "against", AGAINST)
     statistic = _choice(spec, "statistic", STATISTICS, "slope")
     sweep, x, y = _points(ctx, spec, against)
     limit = float(spec.get("max_angle", math.inf))
     inside = np.abs(np.array(sweep.values)) <= limit
     slope, error = linear_fit(x[inside], y[inside])
+    if statistic == "iteration_error":
+        dx = x[inside] - x[inside].mean()
+        return float(np.sum(np.abs(dx) * _bands(ctx, spec, sweep)[inside]) / np.sum(dx ** 2))
     return slope if statistic == "slope" else error
 
 

@@ -8,10 +8,12 @@ from .errors import HarnessError
 
 
 class Curve:
-    """Sampled data y(x), e.g. Cf along a plate or u/U_e across a boundary layer."""
+    """Sampled data y(x), e.g. Cf along a plate or u/U_e across a boundary layer; `yerr`, when
+    given, is each point's half-band of uncertainty (a sweep point's iteration error)."""
 
-    def __init__(self, x, y, label=""):
+    def __init__(self, x, y, label="", yerr=None):
         self.x, self.y, self.label = np.asarray(x, float), np.asarray(y, float), label
+        self.yerr = None if yerr is None else np.asarray(yerr, float)
         if self.x.size == 0:
             raise HarnessError(f"extracted curve '{label}' is empty (check the range)")
 

@@ -43,6 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .captive import BODY_AXES
 from .errors import HarnessError
 
 FOAM_BASHRC = "/usr/share/openfoam/etc/bashrc"  # Debian's OpenFOAM environment
@@ -413,9 +414,8 @@ def history(d, s):
 
 
 def body_axes(c):
-    """Grid-axes coefficients to the body axes of NUMERICS §0.1 (grid_axes.hpp: x_B = -x,
-    y_B = -y, z_B = z), in run.json's names."""
-    return {"X": -c["cfx"], "Y": -c["cfy"], "Z": c["cfz"], "K": -c["cmx"], "M": -c["cmy"], "N": c["cmz"]}
+    """Grid-axes coefficients (cfx ... cmz) to the body axes, in run.json's names."""
+    return {name: sign * c[column] for name, (column, sign) in BODY_AXES.items()}
 
 
 def write_results(d, out, s, solver_seconds):

@@ -606,9 +606,16 @@ def _reported_value(q):
 
 
 def _plot_reported_curve(q, path):
-    """A reported curve (a sweep's coefficient against the swept variable): points joined."""
+    """A reported curve (a sweep's coefficient against the swept variable): points joined,
+    with their iteration bands as error bars when the curve has them."""
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    ax.plot(q["curve"]["x"], q["curve"]["y"], "o-", ms=4, color="tab:blue", label="Narwhal")
+    c = q["curve"]
+    if c.get("yerr") is not None:
+        ax.errorbar(c["x"], c["y"], yerr=c["yerr"], fmt="o-", ms=4, capsize=3, color="tab:blue",
+                    label="Narwhal (bars: half the range over the last force_window iterations)")
+        ax.legend(fontsize=8)
+    else:
+        ax.plot(c["x"], c["y"], "o-", ms=4, color="tab:blue", label="Narwhal")
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xlabel(q["curve"].get("label", "").partition(" vs ")[2] or "x")
     ax.set_ylabel(q.get("unit") or q["name"])

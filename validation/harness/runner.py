@@ -471,6 +471,8 @@ def _reported(ctx, q):
             raise HarnessError("a reported quantity must be a number or a curve, not a grid family")
         if isinstance(v, Curve):
             entry["curve"] = {"x": v.x.tolist(), "y": v.y.tolist(), "label": v.label}
+            if v.yerr is not None:
+                entry["curve"]["yerr"] = v.yerr.tolist()
             return entry
         entry["value"] = float(v)
     except HarnessError as e:

@@ -1,6 +1,7 @@
 """Captive-sweep extractors on hand-made run.json files: coefficients summed over wall
 groups in body axes, the derivative against v' = -sin(beta) with its standard error, the
-oddness of a symmetric configuration's side force, and the refusals."""
+oddness of a symmetric configuration's side force, each point's iteration band from its
+history.csv, and the refusals."""
 import json
 import math
 import unittest
@@ -40,6 +41,33 @@ reference_length = 2.0
 """
 
 
+WINDOW = 4  # settings.force_window of the made-up runs
+
+
+def swing(beta_deg):
+    """The half-amplitude by which the made-up runs' side force still swings at the end."""
+    return 1e-6 * (1.0 + abs(beta_deg))
+
+
+def write_history(d, forces, half):
+    """history.csv in grid axes (x_B = -x, y_B = -y, z_B = z): an early row far off (before
+    the last WINDOW iterations, which the band must ignore), then WINDOW rows in which the
+    body group's side force swings by +-half about its final value."""
+    columns = [f"{g}_{c}" for g in forces for c in ("cfx", "cfy", "cfz", "cmx", "cmy", "cmz")]
+    sign = {"cfx": -1, "cfy": -1, "cfz": 1, "cmx": -1, "cmy": -1, "cmz": 1}
+    names = {"cfx": "X", "cfy": "Y", "cfz": "Z", "cmx": "K", "cmy": "M", "cmz": "N"}
+    lines = ["iteration,wall_s,cfl," + ",".join(columns)]
+    offsets = [1.0] + [half * w for w in (1.0, -1.0, 0.5, 0.0)]
+    for it, off in enumerate(offsets, 1):
+        row = []
+        for col in columns:
+            g, c = col.rsplit("_", 1)
+            value = sign[c] * forces[g]["body_axes"][names[c]]
+            row.append(value + (sign[c] * off if (g == "body" and c == "cfy") else 0.0))
+        lines.append(f"{it},{it}.0,1.0," + ",".join(repr(v) for v in row))
+    (d / "history.csv").write_text("\n".join(lines) + "\n")
+
+
 def side_force(beta_deg):
     """Y' of a made-up hull: linear in v' plus a cubic term (cross-flow drag)."""
     v = -math.sin(math.radians(beta_deg))
@@ -60,7 +88,9 @@ class CaptiveSweeps(unittest.TestCase):
             y = side_force(value[run.id])
             forces = {g: {"body_axes": {"X": -0.001 * s, "Y": y * s, "Z": 0.0, "K": 0.1 * y * s, "M": 0.0,
                                         "N": 0.5 * y * s}} for g, s in zip(("body", "sail"), split)}
-            (d / "run.json").write_text(json.dumps({"forces": forces, "force_span": 1e-7 * (1 + abs(value[run.id]))}))
+            (d / "run.json").write_text(json.dumps({"forces": forces, "force_span": 1e-7 * (1 + abs(value[run.id])),
+                                                    "settings": {"force_window": WINDOW}}))
+            write_history(d, forces, swing(value[run.id]))
             dirs[run.id] = d
             effective[run.id] = effective_input(run) if inputs is None else inputs
         return Context(self.rung, dirs, effective)
@@ -71,6 +101,53 @@ class CaptiveSweeps(unittest.TestCase):
         self.assertEqual(curve.x.tolist(), [-8.0, -4.0, 0.0, 4.0, 8.0])
         for b, y in zip(curve.x, curve.y):
             self.assertAlmostEqual(y, side_force(b), places=15)
+
+    def test_each_point_carries_half_its_range_over_the_force_window_as_its_iteration_band(self):
+        curve = extract(self.context(), {"kind": "sweep_coefficient", "sweep": "drift", "component": "Y",
+                                         "groups": ["body", "sail"]})
+        # The body's side force swings by +-swing in the window; the row before it (1.0 off)
+        # is outside and the sail's is steady.
+        for b, band in zip(curve.x, curve.yerr):
+            self.assertAlmostEqual(band, swing(b), places=15)
+        steady = extract(self.context(), {"kind": "sweep_coefficient", "sweep": "drift", "component": "N",
+                                          "groups": ["body", "sail"]})
+        self.assertEqual(steady.yerr.tolist(), [0.0] * 5)
+
+    def test_the_derivative_s_iteration_error_is_the_worst_case_of_the_points_bands(self):
+        spec = {"kind": "sweep_derivative", "sweep": "drift", "component": "Y", "groups": ["body", "sail"],
+                "against": "v", "max_angle": 4.0, "statistic": "iteration_error"}
+        # Points at v = -sin(b) for b = -4, 0, 4: |dx| = v4, 0, v4; sum dx^2 = 2 v4^2.
+        v4 = math.sin(math.radians(4.0))
+        self.assertAlmostEqual(extract(self.context(), spec), 2 * v4 * swing(4.0) / (2 * v4 * v4), places=12)
+        self.assertEqual(extract(self.context(), {**spec, "component": "N"}), 0.0)
+
+    def test_the_iterations_a_retreat_undid_are_not_in_the_band(self):
+        ctx = self.context()
+        path = ctx.run_dir("drift_4") / "run.json"
+        data = json.loads(path.read_text())
+        spec = {"kind": "sweep_coefficient", "sweep": "drift", "component": "Y", "groups": ["body"]}
+        # Iteration 3 (a swing of -swing) diverged and the run went back to iteration 2's state;
+        # the band is then that of the rows 1, 2, 4, 5: the far-off first row comes in.
+        data["retreats"] = [{"diverged_at": 3, "back_to": 2, "cfl_ceiling": 1.0, "reason": "made up"}]
+        path.write_text(json.dumps(data))
+        band = extract(ctx, spec).yerr[3]
+        self.assertAlmostEqual(band, 0.5 * (1.0 - 0.0), places=12)
+
+    def test_an_iteration_band_needs_the_window_and_the_columns(self):
+        ctx = self.context()
+        path = ctx.run_dir("drift_4") / "run.json"
+        data = json.loads(path.read_text())
+        data["settings"] = {}
+        path.write_text(json.dumps(data))
+        spec = {"kind": "sweep_coefficient", "sweep": "drift", "component": "Y", "groups": ["body"]}
+        with self.assertRaises(HarnessError) as cm:
+            extract(ctx, spec)
+        self.assertIn("settings.force_window", str(cm.exception))
+        ctx = self.context()
+        (ctx.run_dir("drift_0") / "history.csv").write_text("iteration,wall_s\n1,1.0\n2,2.0\n")
+        with self.assertRaises(HarnessError) as cm:
+            extract(ctx, spec)
+        self.assertIn("no column 'body_cfy'", str(cm.exception))
 
     def test_one_run_s_coefficient_is_its_groups_sum(self):
         value = extract(self.context(), {"kind": "run_coefficient", "run": "drift_4", "component": "N",
@@ -140,6 +217,7 @@ class CaptiveSweeps(unittest.TestCase):
                      extract={"kind": "sweep_coefficient", "sweep": "drift", "component": "Y", "groups": ["body"]})
         entry = _reported(self.context(), q)
         self.assertEqual(entry["curve"]["x"], [-8.0, -4.0, 0.0, 4.0, 8.0])
+        self.assertEqual(len(entry["curve"]["yerr"]), 5)
         html = report._reported_section([entry], self.dir)
         self.assertIn("plotted below", html)
         self.assertIn("<img src='reported_0.png'", html)
