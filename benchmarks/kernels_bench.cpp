@@ -189,7 +189,7 @@ struct TurbulentPlate {
     f.allocate(g, fp, c.initial);
     mark_invariant_directions(g, f, fp);
     mg = std::make_unique<Multigrid>(g, f, fp, c.solver.newton, c.solver.multigrid);
-    coupling = std::make_unique<TurbulenceCoupling>(c.turbulence, g, f, fp, mg.get(), nullptr, Communicator::world());
+    coupling = std::make_unique<TurbulenceCoupling>(c.turbulence, g, f, fp, mg.get(), false, Communicator::world());
     model = coupling->model();
   }
   void cycle() { coupling->after_mean_flow_step(mg->cycle().cfl); }
