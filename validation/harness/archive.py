@@ -6,7 +6,10 @@ finished run of the same key (runner.RUN_RECORD). `pack` copies such runs into t
 xz tarball per run, without the fields that only a continuation or a picture of the whole flow
 would read (restart.h5, solution.cgns); `unpack` puts them back into a report's folder, where
 the resumed report finds them as if they had been run there. A run's restart.h5 is kept when a
-run of its rung starts from it (restart_from): that run may not have finished yet.
+run of its rung starts from it (restart_from): that run may not have finished yet. A sweep point
+whose continuation in physical time is made only when the point ended unsteady
+(Run.when_unsteady) keeps it only then: most points settle, and their restarts would fill the
+repository for nothing.
 """
 import json
 import tarfile
@@ -36,10 +39,10 @@ def _archived_key(tarball):
         return None
 
 
-def pack(report_dir, archive_dir, restart_sources=lambda rung: set()):
+def pack(report_dir, archive_dir, keeps_restart=lambda rung, run_dir: False):
     """Archives every finished, recorded run under report_dir/<rung>/runs/<run>/ that the archive
-    does not already hold under the same key. restart_sources(rung) names the runs of a rung
-    that others start from (their restart.h5 is kept). Returns the archived paths."""
+    does not already hold under the same key. keeps_restart(rung, run_dir) tells whether another
+    run of the rung starts from the run (its restart.h5 is kept). Returns the archived paths."""
     report_dir, archive_dir = Path(report_dir), Path(archive_dir)
     written = []
     for run_dir in sorted(report_dir.glob(f"*/runs/*/{RUN_RECORD}")):
@@ -51,7 +54,7 @@ def pack(report_dir, archive_dir, restart_sources=lambda rung: set()):
         target = archive_dir / rung / (run + SUFFIX)
         if target.exists() and _archived_key(target) == key:
             continue
-        keep_restart = run in restart_sources(rung)
+        keep_restart = keeps_restart(rung, run_dir)
         if keep_restart and not (run_dir / RESTART).is_file():
             raise HarnessError(f"{run_dir}: run '{run}' is restarted from by another run of rung '{rung}', "
                                f"but its {RESTART} is missing")

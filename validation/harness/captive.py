@@ -13,6 +13,12 @@ so a sweep's runs must set those to L^2 and L (checked).
 The velocity components the derivatives are taken against follow the free stream set by
 flow.angle_of_attack (alpha) and flow.drift_angle (beta), motion/grid_axes.hpp:
 v' = v / U = -sin(beta), w' = w / U = sin(alpha) cos(beta).
+
+A point whose steady run ended with its forces still swinging (a sweep's [sweep.unsteady]:
+run.json force_span above its force_span) went on in physical time; its values are then
+the continuation's means over the whole periods of the swing after its start's transient
+(steps.csv, harness/periodic.py), its iteration band the half range of the single periods'
+means, and its force span that range over the largest group's force.
 """
 import json
 import math
@@ -21,6 +27,7 @@ import numpy as np
 
 from .compare import Curve
 from .errors import HarnessError
+from .periodic import period_average
 from .schema import extractor
 
 COMPONENTS = ("X", "Y", "Z", "K", "M", "N")
@@ -55,9 +62,39 @@ def _input_number(ctx, run_id, dotted, default):
         return default
 
 
-def coefficient(ctx, run_id, component, groups, length=None):
-    """A run's body-axes coefficient `component`, summed over the wall groups `groups`; L is
-    `length` (default grid.length)."""
+def ended_unsteady(run_json, force_span, run_id):
+    """Whether a steady run's forces were still swinging at its end (run.json force_span above
+    `force_span`): the runner makes the point's continuation in physical time then, and the
+    extractors take the point's values from it. The same test in both places."""
+    span = run_json.get("force_span")
+    if span is None:
+        raise HarnessError(f"run.json of '{run_id}' has no force_span (solver.force_tolerance = 0?): whether the "
+                           "point needs its continuation in physical time cannot be told")
+    return float(span) > force_span
+
+
+def _run_json(ctx, run_id):
+    with open(ctx.run_dir(run_id) / "run.json") as f:
+        return json.load(f)
+
+
+def _continuation(ctx, sweep, run_id):
+    """The id of the run a sweep point's values come from in physical time, or None when its
+    steady run settled (or the sweep has no [sweep.unsteady])."""
+    if not sweep.unsteady:
+        return None
+    if not ended_unsteady(_run_json(ctx, run_id), sweep.unsteady.force_span, run_id):
+        return None
+    later = sweep.unsteady.run_ids[sweep.run_ids.index(run_id)]
+    if later not in ctx.run_dirs or not (ctx.run_dir(later) / "steps.csv").exists():
+        raise HarnessError(f"point '{run_id}' ended with its forces unsteady (force span above "
+                           f"{sweep.unsteady.force_span:g}), and its continuation in physical time '{later}' has no "
+                           "steps.csv")
+    return later
+
+
+def _check_reference_lengths(ctx, run_id, length):
+    """L (default grid.length), having checked that Narwhal divided by L^2 and L."""
     length = _input_number(ctx, run_id, "grid.length", 1.0) if length is None else float(length)
     area = _input_number(ctx, run_id, "output.reference_area", 1.0)
     arm = _input_number(ctx, run_id, "output.reference_length", 1.0)
@@ -65,8 +102,14 @@ def coefficient(ctx, run_id, component, groups, length=None):
     if not (math.isclose(area, length ** 2, rel_tol=1e-6) and math.isclose(arm, length, rel_tol=1e-6)):
         raise HarnessError(f"run '{run_id}': captive coefficients need output.reference_area = L^2 and "
                            f"output.reference_length = L (L = {length}); got {area} and {arm}")
-    with open(ctx.run_dir(run_id) / "run.json") as f:
-        forces = json.load(f).get("forces", {})
+    return length
+
+
+def coefficient(ctx, run_id, component, groups, length=None):
+    """A run's body-axes coefficient `component`, summed over the wall groups `groups`; L is
+    `length` (default grid.length)."""
+    _check_reference_lengths(ctx, run_id, length)
+    forces = _run_json(ctx, run_id).get("forces", {})
     total = 0.0
     for g in groups:
         if g not in forces:
@@ -75,29 +118,116 @@ def coefficient(ctx, run_id, component, groups, length=None):
     return total
 
 
+def _read_rows(ctx, run_id, name):
+    try:
+        rows = np.genfromtxt(ctx.run_dir(run_id) / name, delimiter=",", names=True, comments="#")
+    except (OSError, ValueError) as e:
+        raise HarnessError(f"{name} of '{run_id}' cannot be read: {e}") from e
+    return np.atleast_1d(rows)
+
+
+def time_average(ctx, sweep, run_id):
+    """(column names, PeriodAverage) of a continuation's force coefficients (steps.csv: every
+    group's cfx, cfy, cfz, cmx, cmy, cmz in grid axes) after the sweep's transient."""
+    rows = _read_rows(ctx, run_id, "steps.csv")
+    names = [n for n in rows.dtype.names or () if n.rsplit("_", 1)[-1] in {c for c, _ in BODY_AXES.values()}]
+    if "time" not in (rows.dtype.names or ()) or not names:
+        raise HarnessError(f"steps.csv of '{run_id}' has no time or no force coefficient columns")
+    values = np.column_stack([np.asarray(rows[n], float) for n in names])
+    return names, period_average(np.asarray(rows["time"], float), values, sweep.unsteady.discard)
+
+
+def continuation_summary(ctx):
+    """For the report: each sweep's rule for unsteady points (Unsteady) and the points that
+    went on in physical time, with the periods their means are over; a point that cannot be
+    judged says why."""
+    out = []
+    for sweep in ctx.rung.sweeps:
+        if not sweep.unsteady:
+            continue
+        points = []
+        for rid in sweep.run_ids:
+            if rid not in ctx.run_dirs:
+                continue
+            try:
+                later = _continuation(ctx, sweep, rid)
+                if later is None:
+                    continue
+                _, average = time_average(ctx, sweep, later)
+                points.append({"point": rid, "run": later, "periods": average.periods, "start": average.start,
+                               "end": average.end, "force_span": point_force_span(ctx, sweep, rid)})
+            except HarnessError as e:
+                points.append({"point": rid, "error": str(e)})
+        out.append({"sweep": sweep.id, "force_span": sweep.unsteady.force_span, "discard": sweep.unsteady.discard,
+                    "set": sweep.unsteady.set, "points": points})
+    return out
+
+
+def _weights(names, run_id, component, groups):
+    """The weights that turn steps.csv's grid-axes columns into the body-axes coefficient
+    summed over `groups`."""
+    column, sign = BODY_AXES[component]
+    missing = [f"{g}_{column}" for g in groups if f"{g}_{column}" not in names]
+    if missing:
+        raise HarnessError(f"steps.csv of '{run_id}' has no column {missing[0]!r}")
+    return np.array([sign if n in {f"{g}_{column}" for g in groups} else 0.0 for n in names])
+
+
+def point_coefficient(ctx, sweep, run_id, component, groups, length=None):
+    """A sweep point's coefficient: its steady run's, or its continuation's mean over whole
+    periods when the steady run ended unsteady."""
+    later = _continuation(ctx, sweep, run_id)
+    if later is None:
+        return coefficient(ctx, run_id, component, groups, length)
+    _check_reference_lengths(ctx, later, length)
+    names, average = time_average(ctx, sweep, later)
+    return float(average.means @ _weights(names, later, component, groups))
+
+
+def point_band(ctx, sweep, run_id, component, groups):
+    """A sweep point's iteration band: iteration_band of its steady run, or of a continuation
+    the half range of its single periods' means (PeriodAverage.spread)."""
+    later = _continuation(ctx, sweep, run_id)
+    if later is None:
+        return iteration_band(ctx, run_id, component, groups)
+    names, average = time_average(ctx, sweep, later)
+    return average.spread(_weights(names, later, component, groups))
+
+
+def point_force_span(ctx, sweep, run_id):
+    """A sweep point's force span: its steady run's (run.json), or of a continuation the range
+    of the single periods' means of every force component of every group over the largest
+    group's mean force (as the solver's force span, with periods for iterations)."""
+    later = _continuation(ctx, sweep, run_id)
+    if later is None:
+        from .extract import run_json  # here, not at the top: extract imports this module to register it
+        return run_json(ctx, {"field": "force_span"}, run_id)
+    names, average = time_average(ctx, sweep, later)
+    forces = [i for i, n in enumerate(names) if n.rsplit("_", 1)[-1] in ("cfx", "cfy", "cfz")]
+    groups = {names[i].rsplit("_", 1)[0] for i in forces}
+    largest = max(math.sqrt(sum(average.means[names.index(f"{g}_{c}")] ** 2 for c in ("cfx", "cfy", "cfz")))
+                  for g in groups)
+    samples = average.period_means if average.periods >= 2 else average.window
+    return float(max(np.ptp(samples[:, i]) for i in forces) / largest)
+
+
 def iteration_band(ctx, run_id, component, groups):
     """Half the range of the coefficient over the run's last solver.force_window iterations
     (run.json settings; history.csv): the iteration's part of the point's uncertainty. Of a
     converged run it is below force_span times its largest force; of a point whose forces
     still swing it is the swing's half-amplitude. The iterations a retreat undid (run.json
     retreats: after back_to up to diverged_at) are not on the run's path and are left out."""
-    d = ctx.run_dir(run_id)
-    with open(d / "run.json") as f:
-        data = json.load(f)
+    data = _run_json(ctx, run_id)
     window = int(data.get("settings", {}).get("force_window", 0))
     if window < 2:
         raise HarnessError(f"run.json of '{run_id}' gives no settings.force_window of two or more iterations "
                            f"(got {window}): the iteration band needs it")
     column, sign = BODY_AXES[component]
-    try:
-        rows = np.genfromtxt(d / "history.csv", delimiter=",", names=True, comments="#")
-    except (OSError, ValueError) as e:
-        raise HarnessError(f"history.csv of '{run_id}' cannot be read: {e}") from e
+    rows = _read_rows(ctx, run_id, "history.csv")
     names = rows.dtype.names or ()
     missing = [f"{g}_{column}" for g in groups if f"{g}_{column}" not in names]
     if missing:
         raise HarnessError(f"history.csv of '{run_id}' has no column {missing[0]!r}")
-    rows = np.atleast_1d(rows)
     undone = np.zeros(rows.size, bool)
     for r in data.get("retreats", []):
         undone |= (rows["iteration"] > r["back_to"]) & (rows["iteration"] <= r["diverged_at"])
@@ -133,7 +263,7 @@ def _points(ctx, spec, against):
     x, y = [], []
     for run_id, value in zip(sweep.run_ids, sweep.values):
         x.append(_abscissa(ctx, run_id, value, against))
-        y.append(coefficient(ctx, run_id, component, groups, spec.get("length")))
+        y.append(point_coefficient(ctx, sweep, run_id, component, groups, spec.get("length")))
     return sweep, np.array(x), np.array(y)
 
 
@@ -147,7 +277,7 @@ def run_coefficient(ctx, spec, run_id):
 def _bands(ctx, spec, sweep):
     """Each run's iteration band (iteration_band), in the order of the sweep's values."""
     component, groups = _choice(spec, "component", COMPONENTS), _groups(spec)
-    return np.array([iteration_band(ctx, rid, component, groups) for rid in sweep.run_ids])
+    return np.array([point_band(ctx, sweep, rid, component, groups) for rid in sweep.run_ids])
 
 
 @extractor("sweep_coefficient", "sweep", "component", "groups", "length")
@@ -213,10 +343,14 @@ def sweep_oddness(ctx, spec, run_id):
 
 @extractor("sweep_largest", "sweep", "field")
 def sweep_largest(ctx, spec, run_id):
-    """The largest value of a run.json number over the sweep's runs: with field =
-    "force_span", how far from steady the least steady point's forces still were."""
+    """The largest value of a run.json number over the sweep's points: with field =
+    "force_span", how far from steady the least steady point's forces still were (of a
+    point continued in physical time, how far its periods' means are apart: point_force_span)."""
     from .extract import run_json  # here, not at the top: extract imports this module to register it
-    return max(run_json(ctx, {"field": spec.get("field")}, rid) for rid in _sweep(ctx, spec).run_ids)
+    sweep = _sweep(ctx, spec)
+    if spec.get("field") == "force_span":
+        return max(point_force_span(ctx, sweep, rid) for rid in sweep.run_ids)
+    return max(run_json(ctx, {"field": spec.get("field")}, rid) for rid in sweep.run_ids)
 
 
 @extractor("sweep_magnitude", "sweep", "component", "groups", "length")

@@ -32,6 +32,21 @@ class Run:
     code: str = "narwhal"     # or a peer code on the same case and grid (PEER_CODES)
     model: str = ""           # a [[model]]'s id: `narwhal simulate` flies the case with it (after the
                               # rung's other runs, whose results the model is assembled from)
+    when_unsteady: float = 0.0  # > 0: made only when the run it continues (restart_from) ended with
+                                # its forces unsteady, run.json force_span above this (Unsteady)
+
+
+@dataclass
+class Unsteady:
+    """How a sweep finishes a point whose steady iteration ends with its forces still
+    swinging (a fin stalled on its lee side sheds, and no steady state exists): the point
+    goes on in physical time from where its iteration ended, and its values are the means
+    over the whole periods of the swing (harness/periodic.py). One rule for every point of
+    the sweep, decided by the steady run's own result, so that no point is tuned by hand."""
+    force_span: float    # a point goes on when its run.json force_span is above this
+    discard: float       # physical time (L / U) from the continuation's start left out of the mean
+    set: dict            # the dual-time settings laid over the point's own ("time.step" ...)
+    run_ids: tuple       # the continuations' ids, "<point's run id>_time", as Sweep.run_ids
 
 
 @dataclass
@@ -42,6 +57,7 @@ class Sweep:
     variable: str        # the dotted case key swept, passed as narwhal --set
     values: tuple
     run_ids: tuple
+    unsteady: Unsteady = None  # how a point whose forces do not settle is finished; None: it is not
 
 
 @dataclass
@@ -236,7 +252,7 @@ def _read_sweeps(top, path, tiers):
             raise HarnessError(f"{path}: key 'sweep[{i}].like': expected the id of an earlier sweep "
                                f"({', '.join(setups) or 'none'}), got {like!r}")
         base = setups.get(like, {"input": None, "variable": None, "set": {}, "tiers": tuple(tiers),
-                                 "max_iterations": 0, "ranks": 0, "restart_from": ""})
+                                 "max_iterations": 0, "ranks": 0, "restart_from": "", "unsteady": None})
         if like and "input" not in t:
             inp, sets = base["input"], {**base["set"]}
             sets.update({k: _literal(v) for k, v in r.get("set", dict, "a table of overrides", default={}).items()})
@@ -261,16 +277,60 @@ def _read_sweeps(top, path, tiers):
                  "max_iterations": r.get("max_iterations", int, "an iteration limit", default=base["max_iterations"]),
                  "ranks": r.get("ranks", int, "a number of MPI ranks", default=base["ranks"]),
                  "restart_from": r.get("restart_from", str, "the id of the run every point continues",
-                                       default=base["restart_from"])}
+                                       default=base["restart_from"]),
+                 "unsteady": _read_unsteady(r, path, f"sweep[{i}]", base["unsteady"])}
         r.finish()
         setups[sid] = setup
         ids = tuple(sweep_run_id(sid, v) for v in values)
-        sweeps.append(Sweep(id=sid, variable=variable, values=values, run_ids=ids))
+        unsteady = setup["unsteady"]
+        if unsteady:
+            unsteady = Unsteady(**unsteady, run_ids=tuple(f"{rid}_time" for rid in ids))
+        sweeps.append(Sweep(id=sid, variable=variable, values=values, run_ids=ids, unsteady=unsteady))
         for rid, v in zip(ids, values):
-            runs.append(Run(id=rid, input=inp, tiers=setup["tiers"], set={**sets, variable: _literal(v)},
+            point_set = {**sets, variable: _literal(v)}
+            runs.append(Run(id=rid, input=inp, tiers=setup["tiers"], set=point_set,
                             max_iterations=setup["max_iterations"], ranks=setup["ranks"],
                             restart_from=setup["restart_from"]))
+            if unsteady:
+                runs.append(Run(id=f"{rid}_time", input=inp, tiers=setup["tiers"],
+                                set={**point_set, **unsteady.set}, ranks=setup["ranks"], restart_from=rid,
+                                when_unsteady=unsteady.force_span))
     return sweeps, runs
+
+
+def _read_unsteady(sweep_reader, path, where, inherited):
+    """A sweep's [sweep.unsteady] table (Unsteady) as a dict without its run ids, or the one
+    the sweep it repeats (`like`) has. The table may be a TOML file's, named relative to the
+    case file, so that several rungs share one rule."""
+    if isinstance(sweep_reader.table.get("unsteady"), str):
+        name = sweep_reader.get("unsteady", str, "a file holding the table")
+        source = (path.parent / name).resolve()
+        try:
+            table = tomllib.loads(source.read_text())
+        except (OSError, tomllib.TOMLDecodeError) as e:
+            raise HarnessError(f"{path}: key '{where}.unsteady': cannot read {source}: {e}") from e
+        path, prefix = source, ""
+    else:
+        prefix = f"{where}.unsteady."
+        table = sweep_reader.get("unsteady", dict, "a table (force_span, discard, set) or a file holding one",
+                                 default=None)
+    if table is None:
+        return inherited
+    r = _Reader(path, table, prefix)
+    force_span = r.get("force_span", float, "the force span above which a point goes on in physical time",
+                       required=True)
+    discard = r.get("discard", float, "the physical time (L / U) left out of the mean as the start's transient",
+                    required=True)
+    sets = {k: _literal(v) for k, v in r.get("set", dict, "a table of dual-time overrides (\"time.step\" ...)",
+                                             required=True).items()}
+    r.finish()
+    if force_span <= 0.0 or discard < 0.0:
+        raise HarnessError(f"{path}: keys '{prefix}force_span', '{prefix}discard': expected force_span > 0 and "
+                           f"discard >= 0, got {force_span!r} and {discard!r}")
+    if not any(k.startswith("time.") for k in sets):
+        raise HarnessError(f"{path}: key '{prefix}set': expected the dual-time settings (time.scheme, "
+                           f"time.step, time.steps ...), got {sorted(sets)}")
+    return {"force_span": force_span, "discard": discard, "set": sets}
 
 
 def load_rung(path):

@@ -535,6 +535,7 @@ def _rung_page(rung_dir, res):
     if _plot_residuals(rung_dir, res, rung_dir / "residuals.png"):
         body += "<img src='residuals.png' alt='residual history'>"
     body += _settings_section(res.get("settings") or {})
+    body += _unsteady_points_section(res.get("unsteady_points") or [])
     body += "<h2>Checks</h2>"
     for i, c in enumerate(res.get("checks", [])):
         verdict = "PASS" if c.get("pass") else "FAIL"
@@ -595,6 +596,35 @@ def _settings_section(by_run):
             f"{html.escape(rid)}: {_fmt(v) if v is not None else 'not set'}" for rid, v in values.items())
         + "</td></tr>" for k, values in differing.items())
     return body + "</table>"
+
+
+def _unsteady_points_section(sweeps):
+    """Each sweep's rule for points whose steady iteration ends with the forces swinging, and
+    the points that went on in physical time under it."""
+    if not sweeps:
+        return ""
+    body = "<h2>Points continued in physical time</h2>"
+    for s in sweeps:
+        settings = ", ".join(f"{html.escape(k)} = {html.escape(v)}" for k, v in s["set"].items())
+        body += (f"<p>Sweep <b>{html.escape(s['sweep'])}</b>: a point whose steady run ends with a force span above "
+                 f"{_fmt(s['force_span'])} goes on from its last state with {settings}; its values are the means "
+                 f"over the whole periods of its forces' swing after the first {_fmt(s['discard'])} time units, its "
+                 "iteration band the half range of the single periods' means.</p>")
+        if not s["points"]:
+            body += "<p>No point needed it.</p>"
+            continue
+        body += "<table><tr><th>point</th><th>continued in</th><th>whole periods</th><th>averaged over t</th>" \
+                "<th>force span of the periods' means</th></tr>"
+        for p in s["points"]:
+            if "error" in p:
+                body += (f"<tr><td>{html.escape(p['point'])}</td>"
+                         f"<td colspan=4 class=FAIL>{html.escape(p['error'])}</td></tr>")
+                continue
+            periods = p["periods"] or "none found: the window's mean"
+            body += (f"<tr><td>{html.escape(p['point'])}</td><td>{html.escape(p['run'])}</td><td>{periods}</td>"
+                     f"<td>{_fmt(p['start'])} to {_fmt(p['end'])}</td><td>{_fmt(p['force_span'])}</td></tr>")
+        body += "</table>"
+    return body
 
 
 def _reported_value(q):

@@ -14,6 +14,7 @@ from pathlib import Path
 from .compare import Curve, Family, compare
 from .errors import HarnessError
 from .motion import free_body_frame
+from .captive import continuation_summary, ended_unsteady
 from .extract import Context, extract
 from .reference import ReferenceFile
 from .references import resolve_reference
@@ -203,6 +204,14 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1, resume=False, simulato
         return _finish(result, out_dir, started)
     run_dirs, inputs = {}, {}
     for r in runs:
+        if r.when_unsteady:
+            needed, info = _continuation_needed(r, out_dir)
+            if not needed:
+                result["runs"].append(info)
+                if info["status"] == "input error":
+                    result["status"] = "crashed"
+                    break
+                continue
         rd = out_dir / "runs" / r.id
         rd.mkdir(parents=True, exist_ok=True)
         remaining = rung.timeout_s - (time.monotonic() - started)
@@ -231,6 +240,7 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1, resume=False, simulato
 
     ctx = Context(rung, run_dirs, inputs, root / "reference_data")
     result["settings"] = rung_settings(ctx)
+    result["unsteady_points"] = continuation_summary(ctx)
     if result["status"] == "passed":
         for c in rung.checks:
             if tier not in c.tiers:
@@ -261,6 +271,24 @@ def run_rung(rung, tier, narwhal, out_dir, root, ranks=1, resume=False, simulato
         elif not all(ch["pass"] for ch in result["checks"]):
             result["status"] = "failed"
     return _finish(result, out_dir, started)
+
+
+def _continuation_needed(r, out_dir):
+    """Whether a sweep point's continuation in physical time (Run.when_unsteady) is to be made:
+    (False, its entry of result["runs"]) when the point's steady run settled."""
+    rj = out_dir / "runs" / r.restart_from / "run.json"
+    try:
+        data = json.loads(rj.read_text())
+        if ended_unsteady(data, r.when_unsteady, r.restart_from):
+            return True, None
+    except (OSError, json.JSONDecodeError) as e:
+        return False, {"id": r.id, "code": "narwhal", "status": "input error",
+                       "message": f"{rj} cannot be read ({e}): whether the point ended steady cannot be told"}
+    except HarnessError as e:
+        return False, {"id": r.id, "code": "narwhal", "status": "input error", "message": str(e)}
+    return False, {"id": r.id, "code": "narwhal", "status": "not needed",
+                   "message": f"{r.restart_from} ended steady: force span {data['force_span']:.1e} "
+                              f"<= {r.when_unsteady:g}"}
 
 
 def _overrides(r):

@@ -6,6 +6,7 @@ import json
 import math
 import unittest
 
+import numpy as np
 from support import rung_in_temp_dir
 
 from harness.captive import linear_fit
@@ -230,6 +231,116 @@ class CaptiveSweeps(unittest.TestCase):
         self.assertTrue(math.isnan(linear_fit([0.0, 1.0], [0.0, 1.0])[1]))
         with self.assertRaises(HarnessError):
             linear_fit([1.0, 1.0], [0.0, 2.0])
+
+
+UNSTEADY_RUNG = RUNG.replace('values = [-8, -4, 0, 4, 8]', """values = [-8, -4, 0, 4, 8]
+
+[sweep.unsteady]
+force_span = 1.0e-3
+discard = 1.0
+set = { "time.scheme" = "bdf2", "time.step" = 0.02, "time.steps" = 400 }""")
+
+PERIOD = 1.3  # of the made-up continuations' swing
+
+
+class UnsteadyPoints(unittest.TestCase):
+    """Points whose steady runs ended with their forces swinging (the +-8 degree ones here)
+    take their values from their continuations in physical time."""
+
+    def setUp(self):
+        self.dir, self.rung = rung_in_temp_dir(UNSTEADY_RUNG, INPUT)
+
+    def context(self, drift=1e-4):
+        """Steady runs as CaptiveSweeps'; at +-8 degrees a force span of 2e-2 and a
+        continuation whose body side force swings by +-0.2 |Y'| about side_force(b), with a
+        transient of 0.5 |Y'| in its first time unit and a drift of the mean by `drift`
+        |Y'| per period, the sail's steady at 0."""
+        dirs, effective = {}, {}
+        sweep = self.rung.sweeps[0]
+        for rid, b in zip(sweep.run_ids, sweep.values):
+            d = self.dir / "runs" / rid
+            d.mkdir(parents=True, exist_ok=True)
+            y = side_force(b)
+            forces = {g: {"body_axes": {"X": -0.001, "Y": y * f, "Z": 0.0, "K": 0.0, "M": 0.0, "N": 0.0}}
+                      for g, f in (("body", 1.0), ("sail", 0.0))}
+            unsteady = abs(b) == 8
+            (d / "run.json").write_text(json.dumps({"forces": forces, "force_span": 2e-2 if unsteady else 1e-7,
+                                                    "settings": {"force_window": WINDOW}}))
+            write_history(d, forces, 0.0)
+            dirs[rid] = d
+            effective[rid] = effective_input(next(r for r in self.rung.runs if r.id == rid))
+            if unsteady:
+                later = sweep.unsteady.run_ids[sweep.run_ids.index(rid)]
+                c = self.dir / "runs" / later
+                c.mkdir(parents=True, exist_ok=True)
+                t = np.arange(1, 501) * 0.02
+                body_y = y * (1.0 + 0.2 * np.sin(2 * math.pi * t / PERIOD) + 0.5 * (t < 1.0)
+                              + drift * t / PERIOD)
+                rows = ["step,time,subiterations,drop,body_cfx,body_cfy,body_cfz,sail_cfx,sail_cfy,sail_cfz"]
+                for n, (tn, yn) in enumerate(zip(t, body_y), 1):
+                    # grid axes: cfx = -X, cfy = -Y
+                    rows.append(f"{n},{tn!r},5,1.0,0.001,{-yn!r},0.0,0.001,0.0,0.0")
+                (c / "steps.csv").write_text("\n".join(rows) + "\n")
+                dirs[later] = c
+                effective[later] = effective_input(next(r for r in self.rung.runs if r.id == later))
+        return Context(self.rung, dirs, effective)
+
+    def test_the_rung_declares_one_continuation_per_point_from_its_steady_run(self):
+        sweep = self.rung.sweeps[0]
+        self.assertEqual(sweep.unsteady.run_ids[0], "drift_m8_time")
+        later = next(r for r in self.rung.runs if r.id == "drift_m8_time")
+        self.assertEqual((later.restart_from, later.when_unsteady), ("drift_m8", 1e-3))
+        self.assertEqual(later.set["time.step"], "0.02")
+        self.assertEqual(later.set["flow.drift_angle"], "-8.0")
+
+    def test_an_unsteady_point_s_value_is_its_continuation_s_mean_over_whole_periods(self):
+        curve = extract(self.context(drift=0.0), {"kind": "sweep_coefficient", "sweep": "drift", "component": "Y",
+                                                  "groups": ["body", "sail"]})
+        for b, y, band in zip(curve.x, curve.y, curve.yerr):
+            # The transient (first time unit) is left out; the swing averages out over whole periods.
+            self.assertAlmostEqual(y, side_force(b), delta=1e-5 * abs(side_force(b)))
+            self.assertLessEqual(band, 1e-5 * abs(side_force(b)))
+        self.assertLess(extract(self.context(drift=0.0), {"kind": "sweep_oddness", "sweep": "drift", "component": "Y",
+                                                          "groups": ["body", "sail"]}), 1e-8)
+
+    def test_a_point_whose_periods_means_differ_carries_their_spread(self):
+        drift = 1e-3
+        ctx = self.context(drift=drift)
+        curve = extract(ctx, {"kind": "sweep_coefficient", "sweep": "drift", "component": "Y", "groups": ["body"]})
+        y8 = abs(side_force(8.0))
+        # Periods from t = 1 to 10: about six whole ones, whose means step by drift |Y'|.
+        self.assertAlmostEqual(curve.yerr[-1], 0.5 * 5 * drift * y8, delta=0.1 * drift * y8)
+        span = extract(ctx, {"kind": "sweep_largest", "sweep": "drift", "field": "force_span"})
+        # The spread over the largest group's force (the body's: |(-0.001... in grid axes, Y')|).
+        force = math.hypot(0.001, y8 * (1.0 + drift * 5.5))
+        self.assertAlmostEqual(span, 5 * drift * y8 / force, delta=0.1 * drift * y8 / force)
+
+    def test_the_report_states_the_rule_and_the_points_continued(self):
+        from harness import report
+        from harness.captive import continuation_summary
+        summary = continuation_summary(self.context(drift=0.0))
+        self.assertEqual([p["point"] for p in summary[0]["points"]], ["drift_m8", "drift_8"])
+        self.assertGreaterEqual(summary[0]["points"][0]["periods"], 6)
+        html = report._unsteady_points_section(summary)
+        self.assertIn("time.step = 0.02", html)
+        self.assertIn("drift_8_time", html)
+        ctx = self.context()
+        (ctx.run_dir("drift_8_time") / "steps.csv").unlink()
+        self.assertIn("no steps.csv", continuation_summary(ctx)[0]["points"][1]["error"])
+
+    def test_a_missing_continuation_is_an_error_not_the_steady_value(self):
+        ctx = self.context()
+        (ctx.run_dir("drift_8_time") / "steps.csv").unlink()
+        with self.assertRaises(HarnessError) as cm:
+            extract(ctx, {"kind": "sweep_coefficient", "sweep": "drift", "component": "Y", "groups": ["body"]})
+        self.assertIn("'drift_8_time' has no steps.csv", str(cm.exception))
+        ctx = self.context()
+        data = json.loads((ctx.run_dir("drift_4") / "run.json").read_text())
+        del data["force_span"]
+        (ctx.run_dir("drift_4") / "run.json").write_text(json.dumps(data))
+        with self.assertRaises(HarnessError) as cm:
+            extract(ctx, {"kind": "sweep_coefficient", "sweep": "drift", "component": "Y", "groups": ["body"]})
+        self.assertIn("has no force_span", str(cm.exception))
 
 
 if __name__ == "__main__":

@@ -40,11 +40,14 @@ class RungFiles(unittest.TestCase):
 
     def error(self, text):
         path = self.write(text)
-        with self.assertRaises(HarnessError) as cm:
-            load_rung(path)
-        msg = str(cm.exception)
+        msg = self.error_of(path)
         self.assertIn(str(path), msg)
         return msg
+
+    def error_of(self, path):
+        with self.assertRaises(HarnessError) as cm:
+            load_rung(path)
+        return str(cm.exception)
 
     def test_set_values_go_back_to_toml_inline_tables_included(self):
         # A run's `set` reaches narwhal as --set key=<TOML>: a list of inline tables (tanks of
@@ -184,6 +187,41 @@ class RungFiles(unittest.TestCase):
         self.assertIn("sweep[1].like", self.error(GOOD + sweep + medium.replace('"drift"', '"yaw"')))
         self.assertIn("sweep[0].like", self.error(GOOD + medium + sweep))
         self.assertIn("sweep[1].set", self.error(GOOD + sweep + medium.replace('"grid.coarsen"', '"flow.drift_angle"')))
+
+    def test_a_sweep_s_unsteady_points_go_on_in_physical_time_by_one_rule_that_like_repeats(self):
+        sweep = ('\n[[sweep]]\nid = "drift"\ninput = "in.toml"\nvariable = "flow.drift_angle"\n'
+                 'values = [0, 12]\nmax_iterations = 50\nranks = 2\n'
+                 '[sweep.unsteady]\nforce_span = 1e-3\ndiscard = 2\n'
+                 'set = { "time.scheme" = "bdf2", "time.step" = 0.02, "time.steps" = 400 }\n')
+        medium = '\n[[sweep]]\nid = "fine"\nlike = "drift"\nvalues = [4]\nset = { "grid.scale" = 0.5 }\n'
+        rung = load_rung(self.write(GOOD + sweep + medium))
+        unsteady = rung.sweeps[0].unsteady
+        self.assertEqual((unsteady.force_span, unsteady.discard, unsteady.run_ids), (1e-3, 2.0, ("drift_0_time",
+                                                                                              "drift_12_time")))
+        self.assertEqual(rung.sweeps[1].unsteady.run_ids, ("fine_4_time",))
+        later = next(r for r in rung.runs if r.id == "fine_4_time")
+        self.assertEqual((later.restart_from, later.when_unsteady, later.ranks, later.max_iterations),
+                         ("fine_4", 1e-3, 2, 0))
+        self.assertEqual(later.set, {"grid.scale": "0.5", "flow.drift_angle": "4.0", "time.scheme": '"bdf2"',
+                                     "time.step": "0.02", "time.steps": "400"})
+        self.assertIn("missing required key", self.error(GOOD + sweep.replace("discard = 2\n", "")))
+        self.assertIn("'sweep[0].unsteady.set': expected the dual-time settings",
+                      self.error(GOOD + sweep.replace('"time.scheme" = "bdf2", "time.step" = 0.02, "time.steps" = 400',
+                                                      '"solver.cfl_max" = 4')))
+        self.assertIn("expected force_span > 0", self.error(GOOD + sweep.replace("force_span = 1e-3", "force_span = 0.0")))
+        self.assertIn("unknown key 'sweep[0].unsteady.discrad'",
+                      self.error(GOOD + sweep.replace("discard = 2", "discard = 2\ndiscrad = 1")))
+        # One rule for several rungs: the table in a file of its own.
+        case = self.write(GOOD)
+        rule = sweep[sweep.index("[sweep.unsteady]") + len("[sweep.unsteady]\n"):]
+        (case.parent / "rule.toml").write_text(rule)
+        by_file = sweep[:sweep.index("[sweep.unsteady]")] + 'unsteady = "rule.toml"\n'
+        case.write_text(textwrap.dedent(GOOD + by_file))
+        self.assertEqual(load_rung(case).sweeps[0].unsteady.set["time.steps"], "400")
+        (case.parent / "rule.toml").write_text(rule.replace("discard = 2", "discard = 2\ndiscrad = 1"))
+        self.assertIn("rule.toml: unknown key 'discrad'", self.error_of(case))
+        case.write_text(textwrap.dedent(GOOD + by_file.replace("rule.toml", "none.toml")))
+        self.assertIn("key 'sweep[0].unsteady': cannot read", self.error_of(case))
 
     def test_a_family_members_spacing_is_a_number_or_its_cell_count(self):
         fam = GOOD.replace('input = "in.toml"\n', 'input = "in.toml"\nfamily = "f"\nh = "cells"\n', 1)

@@ -225,12 +225,12 @@ class ResumedReport(unittest.TestCase):
         self.runs_made(exe)
         (self.root / "out" / "runs" / "a" / "restart.h5").write_text("state")
         archive = Path(tempfile.mkdtemp())
-        pack(self.root, archive, restart_sources=lambda rung: {"a"})
+        pack(self.root, archive, keeps_restart=lambda rung, run_dir: run_dir.name == "a")
         unpacked = unpack(archive, Path(tempfile.mkdtemp()))
         self.assertEqual((unpacked[0] / "restart.h5").read_text(), "state")
         (self.root / "out" / "runs" / "a" / "restart.h5").unlink()
         with self.assertRaisesRegex(HarnessError, "restart.h5 is missing"):
-            pack(self.root, Path(tempfile.mkdtemp()), restart_sources=lambda rung: {"a"})
+            pack(self.root, Path(tempfile.mkdtemp()), keeps_restart=lambda rung, run_dir: run_dir.name == "a")
 
     def test_a_diverged_run_is_not_reused(self):
         exe = counting_narwhal(self.root, exit_code=3)
@@ -240,6 +240,95 @@ class ResumedReport(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+def swinging_narwhal(directory):
+    """An executable whose steady runs at 8 degrees drift end with their forces swinging
+    (run.json force_span 0.05) and settle at other angles (1e-7); each run's arguments go to
+    runs.log beside it, one line per run."""
+    exe = Path(directory) / "narwhal"
+    exe.write_text(textwrap.dedent(f"""\
+        #!/bin/sh
+        [ "$1" = --version ] && echo 'narwhal 0.1.0 (abc, no MPI)' && exit 0
+        echo "$@" >> "{directory}/runs.log"
+        span=1e-7
+        case "$*" in *flow.drift_angle=8.0*) span=0.05;; esac
+        while [ "$1" != --out ]; do shift; done
+        mkdir -p "$2"
+        echo state > "$2/restart.h5"
+        echo '{{"status": "converged", "iterations": 7, "force_span": '$span', "provenance": {{"compiler": "c", "flags": "f", "version": "v"}}}}' > "$2/run.json"
+        exit 0
+        """))
+    exe.chmod(exe.stat().st_mode | stat.S_IXUSR)
+    return exe
+
+
+SWEPT = """
+[rung]
+title = "t"
+tiers = ["quick"]
+
+[[sweep]]
+id = "drift"
+input = "in.toml"
+variable = "flow.drift_angle"
+values = [0, 8]
+
+[sweep.unsteady]
+force_span = 1.0e-3
+discard = 1.0
+set = { "time.step" = 0.02, "time.steps" = 40 }
+
+[[check]]
+name = "c"
+extract = { kind = "run_json", run = "drift_0", field = "iterations" }
+comparator = "max"
+tolerance = 10.0
+rationale = "because"
+"""
+
+
+class UnsteadySweepPoints(unittest.TestCase):
+    def setUp(self):
+        self.dir = Path(tempfile.mkdtemp())
+        (self.dir / "r").mkdir()
+        (self.dir / "r" / "in.toml").write_text("")
+        (self.dir / "r" / "case.toml").write_text(textwrap.dedent(SWEPT))
+
+    def test_only_a_point_that_ended_unsteady_goes_on_in_physical_time_from_its_state(self):
+        exe = swinging_narwhal(self.dir)
+        res = run_rung(load_rung(self.dir / "r" / "case.toml"), "quick", exe, self.dir / "out", self.dir)
+        commands = (self.dir / "runs.log").read_text().splitlines()
+        self.assertEqual(len(commands), 3, commands)
+        later = commands[2]
+        self.assertIn("--out " + str(self.dir / "out" / "runs" / "drift_8_time"), later)
+        self.assertIn("--restart " + str(self.dir / "out" / "runs" / "drift_8" / "restart.h5"), later)
+        self.assertIn("--set time.steps=40", later)
+        self.assertIn("--set flow.drift_angle=8.0", later)
+        status = {r["id"]: r["status"] for r in res["runs"]}
+        self.assertEqual(status["drift_0_time"], "not needed")
+        self.assertEqual(status["drift_8_time"], "converged")
+        self.assertIn("force span 1.0e-07", next(r for r in res["runs"] if r["id"] == "drift_0_time")["message"])
+        self.assertFalse((self.dir / "out" / "runs" / "drift_0_time").exists())
+        self.assertEqual(res["status"], "passed")
+
+    def test_the_archive_keeps_a_point_s_restart_only_when_its_continuation_is_needed(self):
+        import sys
+        sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tools"))
+        from run_archive import restart_keeper
+        exe = swinging_narwhal(self.dir)
+        run_rung(load_rung(self.dir / "r" / "case.toml"), "quick", exe, self.dir / "out" / "r", self.dir)
+        keeps = restart_keeper(self.dir)
+        runs = self.dir / "out" / "r" / "runs"
+        self.assertTrue(keeps("r", runs / "drift_8"))
+        self.assertFalse(keeps("r", runs / "drift_0"))
+        self.assertFalse(keeps("r", runs / "drift_8_time"))
+
+    def test_a_steady_run_that_cannot_tell_its_steadiness_stops_the_rung(self):
+        exe = counting_narwhal(self.dir)  # its run.json has no force_span
+        res = run_rung(load_rung(self.dir / "r" / "case.toml"), "quick", exe, self.dir / "out", self.dir)
+        self.assertEqual(res["status"], "crashed")
+        self.assertIn("has no force_span", res["runs"][-1]["message"])
 
 
 class CaseInputsWithABase(unittest.TestCase):

@@ -7,6 +7,7 @@
 The archive of report <run-id> is reports/archive/<run-id>/<rung>/<run>.tar.xz.
 """
 import argparse
+import json
 import sys
 from pathlib import Path
 
@@ -14,17 +15,30 @@ ROOT = Path(__file__).resolve().parent.parent.parent
 sys.path.insert(0, str(ROOT / "validation"))
 
 from harness.archive import pack, unpack  # noqa: E402
+from harness.captive import ended_unsteady  # noqa: E402
 from harness.casefile import discover, load_rung  # noqa: E402
 from harness.errors import HarnessError  # noqa: E402
 
 
-def restart_sources(cases):
-    """For each rung, the ids of the runs that another of its runs starts from."""
-    sources = {}
+def restart_keeper(cases):
+    """keeps_restart(rung, run_dir) for pack: whether another run of the rung starts from the run
+    in run_dir: always, or for a sweep point's continuation (Run.when_unsteady) when the point's
+    run.json says it ended unsteady."""
+    always, when_unsteady = {}, {}
     for path in discover(cases):
         rung = load_rung(path)
-        sources[rung.name] = {r.restart_from for r in rung.runs if r.restart_from}
-    return lambda name: sources.get(name, set())
+        always[rung.name] = {r.restart_from for r in rung.runs if r.restart_from and not r.when_unsteady}
+        when_unsteady[rung.name] = {r.restart_from: r.when_unsteady for r in rung.runs if r.when_unsteady}
+
+    def keeps_restart(rung, run_dir):
+        run = run_dir.name
+        if run in always.get(rung, set()):
+            return True
+        if run not in when_unsteady.get(rung, {}):
+            return False
+        data = json.loads((run_dir / "run.json").read_text())
+        return ended_unsteady(data, when_unsteady[rung][run], run)
+    return keeps_restart
 
 
 def main():
@@ -39,7 +53,7 @@ def main():
     archive = Path(args.archive) if args.archive else Path(args.reports) / "archive" / args.run_id
     try:
         if args.action == "pack":
-            done = pack(report, archive, restart_sources(args.cases))
+            done = pack(report, archive, restart_keeper(args.cases))
         else:
             done = unpack(archive, report)
     except HarnessError as e:

@@ -1,0 +1,67 @@
+"""Means over whole periods of a swinging force history (harness/periodic.py): exact for a
+periodic swing whatever the window, the spread of the periods' means, and a history that
+does not swing."""
+import math
+import unittest
+
+import numpy as np
+
+import support  # noqa: F401
+
+from harness.errors import HarnessError
+from harness.periodic import interval_mean, period_average, rises
+
+
+class PeriodAverages(unittest.TestCase):
+    def test_a_periodic_swing_s_mean_is_exact_where_the_window_s_is_biased(self):
+        # 8.3 periods of 1.3 after the transient: the window holds a part period.
+        period, amplitude = 1.3, 0.2
+        t = np.arange(1, 601) * 0.02
+        s = 1.0 + amplitude * np.sin(2 * math.pi * t / period + 0.4) + 0.05 * np.sin(4 * math.pi * t / period)
+        other = 3.0 + 0.01 * np.cos(2 * math.pi * t / period)
+        average = period_average(t, np.column_stack([s, other]), discard=1.0)
+        self.assertEqual(average.reference, 0, "the column that swings most bounds the periods")
+        self.assertGreaterEqual(average.periods, 6)
+        self.assertAlmostEqual(average.end - average.start, average.periods * period, delta=1e-3)
+        self.assertLess(abs(average.means[0] - 1.0), 1e-4 * amplitude)
+        self.assertLess(abs(average.means[1] - 3.0), 1e-5)
+        keep = t >= t[0] + 1.0
+        window_mean = interval_mean(t[keep], s[keep], t[keep][0], t[keep][-1])
+        self.assertGreater(abs(window_mean - 1.0), 1e-3 * amplitude, "the plain window mean is biased")
+        self.assertLess(average.spread([1.0, 0.0]), 1e-4 * amplitude, "a periodic swing's periods agree")
+
+    def test_the_spread_is_half_the_range_of_the_periods_means(self):
+        # A swing whose mean drifts linearly by d per period: periods' means m0 + k d.
+        period, d = 1.0, 1e-3
+        t = np.linspace(0.0, 10.0, 20001)
+        s = 2.0 + 0.3 * np.sin(2 * math.pi * t / period) + d * t / period
+        average = period_average(t, s[:, None], discard=0.5)
+        self.assertAlmostEqual(average.spread([1.0]), 0.5 * d * (average.periods - 1), delta=0.02 * d)
+        self.assertEqual(average.spread([-1.0]), average.spread([1.0]))
+
+    def test_without_two_periods_the_window_s_mean_and_range_stand(self):
+        t = np.arange(1, 101) * 0.1
+        s = 1.0 + 1e-3 * t  # settling, not swinging
+        average = period_average(t, s[:, None], discard=2.0)
+        self.assertEqual(average.periods, 0)
+        self.assertAlmostEqual(average.means[0], 1.0 + 1e-3 * 0.5 * (2.1 + 10.0), places=12)
+        self.assertAlmostEqual(average.spread([1.0]), 0.5e-3 * (10.0 - 2.1), places=12)
+        steady = period_average(t, np.ones((100, 1)), discard=0.0)
+        self.assertEqual((steady.periods, steady.means[0], steady.spread([1.0])), (0, 1.0, 0.0))
+
+    def test_a_ripple_about_the_mean_does_not_start_a_period(self):
+        t = np.linspace(0.0, 4.0, 4001)
+        s = np.sin(2 * math.pi * t) + 0.1 * np.sin(2 * math.pi * 97 * t)
+        # One rise near each of t = 1, 2, 3, 4 (the one at 0 had no fall before it); the
+        # ripple's own rises through the mean, counted without the hysteresis, are not.
+        self.assertEqual(len(rises(t, s, 0.0, 0.25 * s.std())), 4)
+        self.assertGreater(len(rises(t, s, 0.0, 0.0)), 8)
+
+    def test_too_short_a_history_is_refused(self):
+        with self.assertRaises(HarnessError) as cm:
+            period_average(np.array([0.1, 0.2, 0.3]), np.ones((3, 1)), discard=1.0)
+        self.assertIn("fewer than two", str(cm.exception))
+
+
+if __name__ == "__main__":
+    unittest.main()
