@@ -17,8 +17,10 @@ v' = v / U = -sin(beta), w' = w / U = sin(alpha) cos(beta).
 A point whose steady run ended with its forces still swinging (a sweep's [sweep.unsteady]:
 run.json force_span above its force_span) went on in physical time; its values are then
 the continuation's means over the whole periods of the swing after its start's transient
-(steps.csv, harness/periodic.py), its iteration band the half range of the single periods'
-means, and its force span that range over the largest group's force.
+(steps.csv, harness/periodic.py), its iteration band the standard error of that mean (from
+the single periods' means), and its force span twice that error over the largest group's
+force: the width within which the mean is known, as a steady run's span is the width
+within which its forces still move.
 """
 import json
 import math
@@ -186,18 +188,19 @@ def point_coefficient(ctx, sweep, run_id, component, groups, length=None):
 
 def point_band(ctx, sweep, run_id, component, groups):
     """A sweep point's iteration band: iteration_band of its steady run, or of a continuation
-    the half range of its single periods' means (PeriodAverage.spread)."""
+    the standard error of its mean (PeriodAverage.standard_error)."""
     later = _continuation(ctx, sweep, run_id)
     if later is None:
         return iteration_band(ctx, run_id, component, groups)
     names, average = time_average(ctx, sweep, later)
-    return average.spread(_weights(names, later, component, groups))
+    return average.standard_error(_weights(names, later, component, groups))
 
 
 def point_force_span(ctx, sweep, run_id):
-    """A sweep point's force span: its steady run's (run.json), or of a continuation the range
-    of the single periods' means of every force component of every group over the largest
-    group's mean force (as the solver's force span, with periods for iterations)."""
+    """A sweep point's force span: its steady run's (run.json), or of a continuation the
+    largest width (twice the standard error) within which the mean of a force component of
+    a group is known, over the largest group's mean force (as the solver's force span is
+    the width within which the forces still move, over that force)."""
     later = _continuation(ctx, sweep, run_id)
     if later is None:
         from .extract import run_json  # here, not at the top: extract imports this module to register it
@@ -207,8 +210,8 @@ def point_force_span(ctx, sweep, run_id):
     groups = {names[i].rsplit("_", 1)[0] for i in forces}
     largest = max(math.sqrt(sum(average.means[names.index(f"{g}_{c}")] ** 2 for c in ("cfx", "cfy", "cfz")))
                   for g in groups)
-    samples = average.period_means if average.periods >= 2 else average.window
-    return float(max(np.ptp(samples[:, i]) for i in forces) / largest)
+    unit = np.eye(len(names))
+    return float(max(2.0 * average.standard_error(unit[i]) for i in forces) / largest)
 
 
 def iteration_band(ctx, run_id, component, groups):

@@ -5,9 +5,10 @@ another's.
 A mean over a window that does not hold whole periods is biased by the part period it
 holds: with a swing of amplitude a and n periods in the window, by up to about a / (pi n).
 Averaging from one rise of the swing through its mean to a later one removes that bias
-for a periodic swing. The spread of the single periods' means then says how periodic the
-swing is: zero for a strictly periodic one, and for one that varies from period to period
-the measure of how far the mean can still move.
+for a periodic swing. The single periods' means then say how periodic the swing is: equal
+for a strictly periodic one; for one that varies from period to period, their standard
+deviation over the square root of their number is the standard error of the mean (the
+periods taken as the batches of a batch-means estimate).
 """
 from dataclasses import dataclass
 
@@ -55,13 +56,14 @@ class PeriodAverage:
     reference: int
     window: np.ndarray
 
-    def spread(self, column_weights):
-        """Half the range of the periods' means of sum_c w_c column_c (of the whole
-        window's samples when there are fewer than two periods): how far the average can
-        still be from the history's long-time mean."""
+    def standard_error(self, column_weights):
+        """How far the mean of sum_c w_c column_c can still be from the history's long-time
+        mean: the standard deviation of the periods' means over the square root of their
+        number. With fewer than two periods, half the range of the window's samples (the
+        steady iteration's measure: a history that neither swings nor settles)."""
         w = np.asarray(column_weights, float)
         if self.periods >= 2:
-            return 0.5 * float(np.ptp(self.period_means @ w))
+            return float(np.std(self.period_means @ w, ddof=1) / np.sqrt(self.periods))
         return 0.5 * float(np.ptp(self.window @ w))
 
 

@@ -609,12 +609,12 @@ def _unsteady_points_section(sweeps):
         body += (f"<p>Sweep <b>{html.escape(s['sweep'])}</b>: a point whose steady run ends with a force span above "
                  f"{_fmt(s['force_span'])} goes on from its last state with {settings}; its values are the means "
                  f"over the whole periods of its forces' swing after the first {_fmt(s['discard'])} time units, its "
-                 "iteration band the half range of the single periods' means.</p>")
+                 "iteration band the standard error of that mean from the single periods' means.</p>")
         if not s["points"]:
             body += "<p>No point needed it.</p>"
             continue
         body += "<table><tr><th>point</th><th>continued in</th><th>whole periods</th><th>averaged over t</th>" \
-                "<th>force span of the periods' means</th></tr>"
+                "<th>force span (twice the mean's standard error)</th></tr>"
         for p in s["points"]:
             if "error" in p:
                 body += (f"<tr><td>{html.escape(p['point'])}</td>"

@@ -303,17 +303,19 @@ class UnsteadyPoints(unittest.TestCase):
         self.assertLess(extract(self.context(drift=0.0), {"kind": "sweep_oddness", "sweep": "drift", "component": "Y",
                                                           "groups": ["body", "sail"]}), 1e-8)
 
-    def test_a_point_whose_periods_means_differ_carries_their_spread(self):
+    def test_a_point_whose_periods_means_differ_carries_the_standard_error_of_its_mean(self):
         drift = 1e-3
         ctx = self.context(drift=drift)
         curve = extract(ctx, {"kind": "sweep_coefficient", "sweep": "drift", "component": "Y", "groups": ["body"]})
         y8 = abs(side_force(8.0))
-        # Periods from t = 1 to 10: about six whole ones, whose means step by drift |Y'|.
-        self.assertAlmostEqual(curve.yerr[-1], 0.5 * 5 * drift * y8, delta=0.1 * drift * y8)
+        # Periods from t = 1 to 10: six whole ones, whose means step by drift |Y'|: their
+        # standard deviation is drift |Y'| sqrt(P (P + 1) / 12), over sqrt(P).
+        error = drift * y8 * math.sqrt(7 / 12)
+        self.assertAlmostEqual(curve.yerr[-1], error, delta=0.03 * error)
         span = extract(ctx, {"kind": "sweep_largest", "sweep": "drift", "field": "force_span"})
-        # The spread over the largest group's force (the body's: |(-0.001... in grid axes, Y')|).
+        # Twice that over the largest group's force (the body's, X' = -0.001 and Y').
         force = math.hypot(0.001, y8 * (1.0 + drift * 5.5))
-        self.assertAlmostEqual(span, 5 * drift * y8 / force, delta=0.1 * drift * y8 / force)
+        self.assertAlmostEqual(span, 2 * error / force, delta=0.03 * 2 * error / force)
 
     def test_the_report_states_the_rule_and_the_points_continued(self):
         from harness import report

@@ -28,16 +28,19 @@ class PeriodAverages(unittest.TestCase):
         keep = t >= t[0] + 1.0
         window_mean = interval_mean(t[keep], s[keep], t[keep][0], t[keep][-1])
         self.assertGreater(abs(window_mean - 1.0), 1e-3 * amplitude, "the plain window mean is biased")
-        self.assertLess(average.spread([1.0, 0.0]), 1e-4 * amplitude, "a periodic swing's periods agree")
+        self.assertLess(average.standard_error([1.0, 0.0]), 1e-4 * amplitude, "a periodic swing's periods agree")
 
-    def test_the_spread_is_half_the_range_of_the_periods_means(self):
-        # A swing whose mean drifts linearly by d per period: periods' means m0 + k d.
+    def test_the_standard_error_is_that_of_the_periods_means(self):
+        # A swing whose mean drifts linearly by d per period: periods' means m0 + k d, k = 0
+        # ... P - 1, whose standard deviation is d sqrt(P (P + 1) / 12).
         period, d = 1.0, 1e-3
         t = np.linspace(0.0, 10.0, 20001)
         s = 2.0 + 0.3 * np.sin(2 * math.pi * t / period) + d * t / period
         average = period_average(t, s[:, None], discard=0.5)
-        self.assertAlmostEqual(average.spread([1.0]), 0.5 * d * (average.periods - 1), delta=0.02 * d)
-        self.assertEqual(average.spread([-1.0]), average.spread([1.0]))
+        p = average.periods
+        self.assertEqual(p, 9)
+        self.assertAlmostEqual(average.standard_error([1.0]), d * math.sqrt((p + 1) / 12), delta=0.01 * d)
+        self.assertEqual(average.standard_error([-1.0]), average.standard_error([1.0]))
 
     def test_without_two_periods_the_window_s_mean_and_range_stand(self):
         t = np.arange(1, 101) * 0.1
@@ -45,9 +48,9 @@ class PeriodAverages(unittest.TestCase):
         average = period_average(t, s[:, None], discard=2.0)
         self.assertEqual(average.periods, 0)
         self.assertAlmostEqual(average.means[0], 1.0 + 1e-3 * 0.5 * (2.1 + 10.0), places=12)
-        self.assertAlmostEqual(average.spread([1.0]), 0.5e-3 * (10.0 - 2.1), places=12)
+        self.assertAlmostEqual(average.standard_error([1.0]), 0.5e-3 * (10.0 - 2.1), places=12)
         steady = period_average(t, np.ones((100, 1)), discard=0.0)
-        self.assertEqual((steady.periods, steady.means[0], steady.spread([1.0])), (0, 1.0, 0.0))
+        self.assertEqual((steady.periods, steady.means[0], steady.standard_error([1.0])), (0, 1.0, 0.0))
 
     def test_a_ripple_about_the_mean_does_not_start_a_period(self):
         t = np.linspace(0.0, 4.0, 4001)
