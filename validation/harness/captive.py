@@ -141,8 +141,8 @@ def time_average(ctx, sweep, run_id):
 
 def continuation_summary(ctx):
     """For the report: each sweep's rule for unsteady points (Unsteady) and the points that
-    went on in physical time, with the periods their means are over; a point that cannot be
-    judged says why."""
+    went on in physical time, with the periods their means are over and the history of the
+    column whose rises bound them; a point that cannot be judged says why."""
     out = []
     for sweep in ctx.rung.sweeps:
         if not sweep.unsteady:
@@ -155,9 +155,13 @@ def continuation_summary(ctx):
                 later = _continuation(ctx, sweep, rid)
                 if later is None:
                     continue
-                _, average = time_average(ctx, sweep, later)
+                names, average = time_average(ctx, sweep, later)
+                rows = _read_rows(ctx, later, "steps.csv")
+                column = names[average.reference]
                 points.append({"point": rid, "run": later, "periods": average.periods, "start": average.start,
-                               "end": average.end, "force_span": point_force_span(ctx, sweep, rid)})
+                               "end": average.end, "force_span": point_force_span(ctx, sweep, rid),
+                               "history": {"column": column, "t": np.asarray(rows["time"], float).tolist(),
+                                           "y": np.asarray(rows[column], float).tolist()}})
             except HarnessError as e:
                 points.append({"point": rid, "error": str(e)})
         out.append({"sweep": sweep.id, "force_span": sweep.unsteady.force_span, "discard": sweep.unsteady.discard,

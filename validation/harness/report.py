@@ -535,7 +535,7 @@ def _rung_page(rung_dir, res):
     if _plot_residuals(rung_dir, res, rung_dir / "residuals.png"):
         body += "<img src='residuals.png' alt='residual history'>"
     body += _settings_section(res.get("settings") or {})
-    body += _unsteady_points_section(res.get("unsteady_points") or [])
+    body += _unsteady_points_section(res.get("unsteady_points") or [], rung_dir)
     body += "<h2>Checks</h2>"
     for i, c in enumerate(res.get("checks", [])):
         verdict = "PASS" if c.get("pass") else "FAIL"
@@ -598,9 +598,9 @@ def _settings_section(by_run):
     return body + "</table>"
 
 
-def _unsteady_points_section(sweeps):
+def _unsteady_points_section(sweeps, rung_dir):
     """Each sweep's rule for points whose steady iteration ends with the forces swinging, and
-    the points that went on in physical time under it."""
+    the points that went on in physical time under it, with a plot of their histories."""
     if not sweeps:
         return ""
     body = "<h2>Points continued in physical time</h2>"
@@ -624,7 +624,27 @@ def _unsteady_points_section(sweeps):
             body += (f"<tr><td>{html.escape(p['point'])}</td><td>{html.escape(p['run'])}</td><td>{periods}</td>"
                      f"<td>{_fmt(p['start'])} to {_fmt(p['end'])}</td><td>{_fmt(p['force_span'])}</td></tr>")
         body += "</table>"
+        drawn = [p for p in s["points"] if "history" in p]
+        if drawn:
+            name = f"unsteady_{s['sweep']}.png"
+            _plot_continuations(drawn, rung_dir / name)
+            body += f"<img src='{html.escape(name)}' alt='histories of the points continued in physical time'>"
     return body
+
+
+def _plot_continuations(points, path):
+    """Each continued point's history of the column whose rises bound its periods, the
+    stretch its means are over shaded."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for i, p in enumerate(points):
+        h, colour = p["history"], f"C{i % 10}"
+        ax.plot(h["t"], h["y"], color=colour, lw=1.0, label=f"{p['point']}: {h['column']}")
+        ax.axvspan(p["start"], p["end"], color=colour, alpha=0.08)
+    ax.set_xlabel("t (L / U) from the steady run's end")
+    ax.set_ylabel("coefficient (steps.csv, grid axes)")
+    ax.legend(fontsize=8)
+    _title(ax, "points continued in physical time (shaded: the whole periods averaged)")
+    _save(fig, path)
 
 
 def _reported_value(q):
@@ -642,7 +662,7 @@ def _plot_reported_curve(q, path):
     c = q["curve"]
     if c.get("yerr") is not None:
         ax.errorbar(c["x"], c["y"], yerr=c["yerr"], fmt="o-", ms=4, capsize=3, color="tab:blue",
-                    label="Narwhal (bars: half the range over the last force_window iterations)")
+                    label="Narwhal (bars: half the range over the last iterations, or a time mean's standard error)")
         ax.legend(fontsize=8)
     else:
         ax.plot(c["x"], c["y"], "o-", ms=4, color="tab:blue", label="Narwhal")
