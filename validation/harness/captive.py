@@ -282,7 +282,7 @@ def run_coefficient(ctx, spec, run_id):
 
 
 def _bands(ctx, spec, sweep):
-    """Each run's iteration band (iteration_band), in the order of the sweep's values."""
+    """Each point's iteration band (point_band), in the order of the sweep's values."""
     component, groups = _choice(spec, "component", COMPONENTS), _groups(spec)
     return np.array([point_band(ctx, sweep, rid, component, groups) for rid in sweep.run_ids])
 
@@ -352,7 +352,7 @@ def sweep_oddness(ctx, spec, run_id):
 def sweep_largest(ctx, spec, run_id):
     """The largest value of a run.json number over the sweep's points: with field =
     "force_span", how far from steady the least steady point's forces still were (of a
-    point continued in physical time, how far its periods' means are apart: point_force_span)."""
+    point continued in physical time, the width within which its mean is known: point_force_span)."""
     from .extract import run_json  # here, not at the top: extract imports this module to register it
     sweep = _sweep(ctx, spec)
     if spec.get("field") == "force_span":
