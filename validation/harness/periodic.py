@@ -70,9 +70,11 @@ class PeriodAverage:
 def period_average(t, columns, discard):
     """Averages the columns of a history (rows at times t) over the whole periods after the
     first `discard` time units (the start's transient). The periods are bounded by the rises
-    of the column that swings most (largest standard deviation) through its mean over the
-    window, with a hysteresis of a quarter of that deviation. Refuses a window of fewer
-    than two samples."""
+    of one column through its mean over the window, with a hysteresis of a quarter of its
+    standard deviation: of the columns that swing at least half as much as the one that
+    swings most, the one with the most rises (a mirror-image point, whose columns swing
+    alike, then picks the same one, and the most of the window is used). Refuses a window
+    of fewer than two samples."""
     t = np.asarray(t, float)
     columns = np.atleast_2d(np.asarray(columns, float))
     if columns.shape[0] != t.size:
@@ -83,8 +85,12 @@ def period_average(t, columns, discard):
         raise HarnessError(f"a history of {t.size} samples from t = {t[0]:g} to {t[-1]:g} has fewer than two "
                            f"after the {discard:g} time units left out as the start's transient")
     deviation = cw.std(axis=0)
-    ref = int(np.argmax(deviation))
-    bounds = rises(tw, cw[:, ref], float(cw[:, ref].mean()), 0.25 * float(deviation[ref])) if deviation[ref] > 0 else []
+    bounds, ref = [], int(np.argmax(deviation))
+    if deviation[ref] > 0:
+        strong = [c for c in range(cw.shape[1]) if deviation[c] >= 0.5 * deviation[ref]]
+        found = {c: rises(tw, cw[:, c], float(cw[:, c].mean()), 0.25 * float(deviation[c])) for c in strong}
+        ref = max(strong, key=lambda c: (len(found[c]), deviation[c]))
+        bounds = found[ref]
     if len(bounds) >= 3:
         period_means = np.array([[interval_mean(tw, cw[:, c], a, b) for c in range(cw.shape[1])]
                                  for a, b in zip(bounds[:-1], bounds[1:])])

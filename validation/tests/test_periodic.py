@@ -30,6 +30,17 @@ class PeriodAverages(unittest.TestCase):
         self.assertGreater(abs(window_mean - 1.0), 1e-3 * amplitude, "the plain window mean is biased")
         self.assertLess(average.standard_error([1.0, 0.0]), 1e-4 * amplitude, "a periodic swing's periods agree")
 
+    def test_of_the_columns_that_swing_strongly_the_one_with_the_most_periods_bounds_them(self):
+        # A slow swing (period 4) slightly stronger than a fast one (period 1): the fast one's
+        # rises bound the periods, so that most of the window is averaged over; a weak
+        # ripple (period 0.25) is not a candidate.
+        t = np.linspace(0.0, 12.0, 12001)
+        slow = 0.11 * np.sin(2 * math.pi * t / 4.0)
+        fast = 0.10 * np.sin(2 * math.pi * t)
+        ripple = 0.01 * np.sin(2 * math.pi * t / 0.25)
+        average = period_average(t, np.column_stack([slow, fast, ripple]), discard=0.0)
+        self.assertEqual((average.reference, average.periods), (1, 10))  # rises at t = 1 ... 11
+
     def test_the_standard_error_is_that_of_the_periods_means(self):
         # A swing whose mean drifts linearly by d per period: periods' means m0 + k d, k = 0
         # ... P - 1, whose standard deviation is d sqrt(P (P + 1) / 12).
