@@ -128,15 +128,21 @@ def _read_rows(ctx, run_id, name):
     return np.atleast_1d(rows)
 
 
-def time_average(ctx, sweep, run_id):
-    """(column names, PeriodAverage) of a continuation's force coefficients (steps.csv: every
-    group's cfx, cfy, cfz, cmx, cmy, cmz in grid axes) after the sweep's transient."""
+def _force_history(ctx, run_id):
+    """(time, column names, values) of a continuation's force coefficients (steps.csv: every
+    group's cfx, cfy, cfz, cmx, cmy, cmz in grid axes)."""
     rows = _read_rows(ctx, run_id, "steps.csv")
     names = [n for n in rows.dtype.names or () if n.rsplit("_", 1)[-1] in {c for c, _ in BODY_AXES.values()}]
     if "time" not in (rows.dtype.names or ()) or not names:
         raise HarnessError(f"steps.csv of '{run_id}' has no time or no force coefficient columns")
-    values = np.column_stack([np.asarray(rows[n], float) for n in names])
-    return names, period_average(np.asarray(rows["time"], float), values, sweep.unsteady.discard)
+    return np.asarray(rows["time"], float), names, np.column_stack([np.asarray(rows[n], float) for n in names])
+
+
+def time_average(ctx, sweep, run_id):
+    """(column names, PeriodAverage) of a continuation's force coefficients after the sweep's
+    transient."""
+    t, names, values = _force_history(ctx, run_id)
+    return names, period_average(t, values, sweep.unsteady.discard)
 
 
 def continuation_summary(ctx):
@@ -155,13 +161,12 @@ def continuation_summary(ctx):
                 later = _continuation(ctx, sweep, rid)
                 if later is None:
                     continue
-                names, average = time_average(ctx, sweep, later)
-                rows = _read_rows(ctx, later, "steps.csv")
-                column = names[average.reference]
+                t, names, values = _force_history(ctx, later)
+                average = period_average(t, values, sweep.unsteady.discard)
                 points.append({"point": rid, "run": later, "periods": average.periods, "start": average.start,
                                "end": average.end, "force_span": point_force_span(ctx, sweep, rid),
-                               "history": {"column": column, "t": np.asarray(rows["time"], float).tolist(),
-                                           "y": np.asarray(rows[column], float).tolist()}})
+                               "history": {"column": names[average.reference], "t": t.tolist(),
+                                           "y": values[:, average.reference].tolist()}})
             except HarnessError as e:
                 points.append({"point": rid, "error": str(e)})
         out.append({"sweep": sweep.id, "force_span": sweep.unsteady.force_span, "discard": sweep.unsteady.discard,
