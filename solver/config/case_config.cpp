@@ -175,144 +175,166 @@ void read_appended_suboff_grid(const ConfigReader& r, AppendedSuboffSpec& a) {
   if (scale != 1.0) a = scaled(a, scale);
 }
 
+// grid.type = "flat_plate": a plate with a run-up, stretched from its leading edge and wall.
+void read_flat_plate_grid(const ConfigReader& r, FlatPlateSpec& p) {
+  p.x_runup = r.number_or("grid.runup", p.x_runup, "the run-up length ahead of the plate", Range::positive());
+  p.length = r.number_or("grid.length", p.length, "the plate length", Range::positive());
+  p.height = r.number_or("grid.height", p.height, "the domain height", Range::positive());
+  p.width = r.number_or("grid.width", p.width, "the span of the single cell in z", Range::positive());
+  p.n_runup = r.integer_or("grid.cells_runup", p.n_runup, "cells along the run-up", kCellCount);
+  p.n_plate = r.integer_or("grid.cells_plate", p.n_plate, "cells along the plate", kCellCount);
+  p.n_normal = r.integer_or("grid.cells_normal", p.n_normal, "cells normal to the plate", kCellCount);
+  p.dx_le = r.number_or("grid.dx_leading_edge", p.dx_le, "the streamwise spacing at the leading edge", Range::positive());
+  p.dx_te = r.number_or("grid.dx_trailing_edge", p.dx_te, "the streamwise spacing at the trailing edge (0: free)", Range::at_least(0));
+  p.dy_wall = r.number_or("grid.dy_wall", p.dy_wall, "the first wall-normal spacing", Range::positive());
+  // Geometric stretching from a first spacing needs room for that many cells of it.
+  auto fits = [&](const char* key, Real ds, Real length, int cells, const char* where) {
+    if (ds * cells > length * (1 + 1e-12))
+      r.error(key, fmt::format("{} cells starting at {} do not fit in {} ({}): the spacing must be at most {}", cells,
+                               ds, where, length, length / cells));
+  };
+  fits("grid.dx_leading_edge", p.dx_le, p.x_runup, p.n_runup, "the run-up");
+  if (p.dx_te > 0.0) {
+    if (p.n_plate < 2) r.error("grid.cells_plate", "a trailing-edge spacing needs at least 2 plate cells");
+    fits("grid.dx_leading_edge", p.dx_le, 0.5 * p.length, p.n_plate / 2, "the front half of the plate");
+    fits("grid.dx_trailing_edge", p.dx_te, 0.5 * p.length, p.n_plate - p.n_plate / 2, "the rear half of the plate");
+  } else {
+    fits("grid.dx_leading_edge", p.dx_le, p.length, p.n_plate, "the plate");
+  }
+  fits("grid.dy_wall", p.dy_wall, p.height, p.n_normal, "the height");
+}
+
+// grid.type = "box": per direction [start, end, cells], clustered from a first spacing.
+void read_box_grid(const ConfigReader& r, GridConfig& g) {
+  const char* names[3] = {"x", "y", "z"};
+  for (int d = 0; d < 3; ++d) {
+    const std::string key = std::string("grid.") + names[d];
+    const Vec3 spec = r.vec3(key, "[start, end, cells]");
+    if (!(spec[2] >= 1 && spec[2] <= kMaxCellsPerDirection && spec[2] == std::floor(spec[2])))
+      r.error(key, fmt::format("the cell count (third entry) must be a whole number between 1 and {}, got {}",
+                               kMaxCellsPerDirection, spec[2]));
+    const int n = static_cast<int>(spec[2]);
+    if (!(spec[1] > spec[0])) r.error(key, fmt::format("the end ({}) must lie beyond the start ({})", spec[1], spec[0]));
+    const std::string ck = std::string("grid.cluster_") + names[d];
+    const std::string cluster =
+        r.string_or(ck, "start", "where the first spacing applies: \"start\", \"both\" ends or the \"middle\"");
+    if (cluster != "start" && cluster != "both" && cluster != "middle")
+      r.error(ck, "expected \"start\", \"both\" or \"middle\", got '" + cluster + "'");
+    const bool halves = cluster == "both" || cluster == "middle";
+    if (halves && n % 2 != 0) r.error(key, "clustering at both ends or in the middle needs an even cell count");
+    // The first cell cannot be longer than the stretch it starts (half of it when both ends are clustered).
+    const Real span = (spec[1] - spec[0]) / (halves ? 2 : 1);
+    const std::string sk = std::string("grid.first_spacing_") + names[d];
+    const Real ds = r.number_or(sk, 0.0, "the first spacing from the start (0: uniform)", Range::between(0.0, span));
+    if (ds <= 0.0)
+      g.box_nodes[d] = uniform_nodes(spec[0], spec[1], n);
+    else if (cluster == "both")
+      g.box_nodes[d] = geometric_nodes_both_ends(spec[0], spec[1], n, ds);
+    else if (cluster == "middle")
+      g.box_nodes[d] = geometric_nodes_from_middle(spec[0], spec[1], n, ds);
+    else
+      g.box_nodes[d] = geometric_nodes(spec[0], spec[1], n, ds);
+  }
+}
+
+// grid.type = "body_of_revolution": an O-grid around a sphere, spheroid or SUBOFF hull.
+void read_body_of_revolution_grid(const ConfigReader& r, BodyGridSpec& b) {
+  const std::string body = r.string("grid.body", "the body: sphere, spheroid or suboff");
+  const Real length = r.number_or("grid.length", 1.0, "the body length (sphere: its diameter)", Range::positive());
+  if (body == "sphere") {
+    b.profile = sphere_profile(length);
+  } else if (body == "spheroid") {
+    b.profile = spheroid_profile(length, r.number("grid.ratio", "the spheroid's length-to-diameter ratio",
+                                                  Range::at_least(1.0)));
+  } else if (body == "suboff") {
+    b.profile = suboff_profile(length);
+  } else {
+    r.error("grid.body", "expected \"sphere\", \"spheroid\" or \"suboff\", got '" + body + "'");
+  }
+  b.cells_along = r.integer_or("grid.cells_along", b.cells_along, "cells along a meridian between the pole squares",
+                               kCellCount);
+  if (b.cells_along % 2 != 0 || b.cells_along < 2)
+    r.error("grid.cells_along", fmt::format("expected an even count >= 2, got {}", b.cells_along));
+  b.cells_around = r.integer_or("grid.cells_around", b.cells_around, "cells per 90-degree sector of azimuth",
+                                kCellCount);
+  b.cells_normal = r.integer_or("grid.cells_normal", b.cells_normal, "cells from the body to the far field",
+                                kCellCount);
+  b.far_field = r.number_or("grid.far_field", b.far_field, "the far-field distance in body lengths",
+                            Range::at_least(1.0));
+  if (r.has("grid.first_spacing_yplus")) {
+    if (r.has("grid.first_spacing"))
+      r.error("grid.first_spacing_yplus", "give either grid.first_spacing or grid.first_spacing_yplus, not both");
+    b.first_spacing = spacing_for_y_plus(r, "grid.first_spacing_yplus", length);
+  } else {
+    b.first_spacing = r.number_or("grid.first_spacing", b.first_spacing, "the first wall-normal spacing",
+                                  Range{0.0, b.far_field * length / b.cells_normal, true, false});
+  }
+  b.pole_spacing = r.number_or("grid.pole_spacing", 0.0,
+                               "the meridional spacing at nose and tail (0: a quarter of the mean)",
+                               Range::between(0.0, length / b.cells_along));
+}
+
+// grid.type = "perturbed_box": the unit box with sinusoidally moved nodes (metric tests).
+void read_perturbed_box_grid(const ConfigReader& r, GridConfig& g) {
+  g.perturbed_cells = r.integer("grid.cells", "cells per direction of the unit box", Range::between(1, 512));
+  // Beyond about a quarter of the box the perturbed cells fold over.
+  g.perturbed_amplitude = r.number_or("grid.amplitude", g.perturbed_amplitude, "the sinusoidal perturbation amplitude",
+                                      Range::between(-0.2, 0.2));
+}
+
+// grid.type = "plot3d" or "cgns": a grid file, and its patches by block, side and range.
+void read_grid_file(const ConfigReader& r, GridConfig& g) {
+  g.grid_file = r.file_path("grid.file", fmt::format("the {} grid file (relative to the case file)",
+                                                      g.type == "cgns" ? "CGNS" : "Plot3D"));
+  const std::size_t n = r.array_size("grid.patch");
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string pre = fmt::format("grid.patch[{}].", i);
+    FilePatch p;
+    p.key = fmt::format("grid.patch[{}]", i);
+    p.block = r.integer(pre + "block", "the 1-based block number", Range::at_least(1)) - 1;
+    const std::string side = r.string(pre + "side", "one of imin, imax, jmin, jmax, kmin, kmax");
+    p.side = parse_side(side);
+    if (p.side < 0) r.error(pre + "side", "expected one of imin, imax, jmin, jmax, kmin, kmax, got '" + side + "'");
+    p.label = r.string(pre + "label", "the patch label used by [bc.<label>]");
+    // Optional cell ranges in the two tangential directions (0-based, half-open); default: whole face.
+    const int d = side_dir(p.side);
+    for (int t = 0; t < 3; ++t) {
+      p.lo[t] = 0;
+      p.hi[t] = -1;  // resolved against the block size later
+    }
+    for (int q = 0; q < 2; ++q) {
+      const int t = (d + 1 + q) % 3;
+      const std::string key = pre + "range_" + "ijk"[t];
+      if (r.has(key)) {
+        const auto [lo, hi] = r.index_range(key, "a 0-based, half-open cell range [first, last + 1]",
+                                            kMaxCellsPerDirection);
+        p.lo[t] = lo;
+        p.hi[t] = hi;
+        p.range_key[t] = key;
+      }
+    }
+    g.file_patches.push_back(p);
+  }
+}
+
 void read_grid(const ConfigReader& r, GridConfig& g) {
   g.type = r.string("grid.type",
                     "one of flat_plate, box, perturbed_box, body_of_revolution, appended_suboff, plot3d, cgns");
-  if (g.type == "flat_plate") {
-    auto& p = g.plate;
-    p.x_runup = r.number_or("grid.runup", p.x_runup, "the run-up length ahead of the plate", Range::positive());
-    p.length = r.number_or("grid.length", p.length, "the plate length", Range::positive());
-    p.height = r.number_or("grid.height", p.height, "the domain height", Range::positive());
-    p.width = r.number_or("grid.width", p.width, "the span of the single cell in z", Range::positive());
-    p.n_runup = r.integer_or("grid.cells_runup", p.n_runup, "cells along the run-up", kCellCount);
-    p.n_plate = r.integer_or("grid.cells_plate", p.n_plate, "cells along the plate", kCellCount);
-    p.n_normal = r.integer_or("grid.cells_normal", p.n_normal, "cells normal to the plate", kCellCount);
-    p.dx_le = r.number_or("grid.dx_leading_edge", p.dx_le, "the streamwise spacing at the leading edge", Range::positive());
-    p.dx_te = r.number_or("grid.dx_trailing_edge", p.dx_te, "the streamwise spacing at the trailing edge (0: free)", Range::at_least(0));
-    p.dy_wall = r.number_or("grid.dy_wall", p.dy_wall, "the first wall-normal spacing", Range::positive());
-    // Geometric stretching from a first spacing needs room for that many cells of it.
-    auto fits = [&](const char* key, Real ds, Real length, int cells, const char* where) {
-      if (ds * cells > length * (1 + 1e-12))
-        r.error(key, fmt::format("{} cells starting at {} do not fit in {} ({}): the spacing must be at most {}", cells,
-                                 ds, where, length, length / cells));
-    };
-    fits("grid.dx_leading_edge", p.dx_le, p.x_runup, p.n_runup, "the run-up");
-    if (p.dx_te > 0.0) {
-      if (p.n_plate < 2) r.error("grid.cells_plate", "a trailing-edge spacing needs at least 2 plate cells");
-      fits("grid.dx_leading_edge", p.dx_le, 0.5 * p.length, p.n_plate / 2, "the front half of the plate");
-      fits("grid.dx_trailing_edge", p.dx_te, 0.5 * p.length, p.n_plate - p.n_plate / 2, "the rear half of the plate");
-    } else {
-      fits("grid.dx_leading_edge", p.dx_le, p.length, p.n_plate, "the plate");
-    }
-    fits("grid.dy_wall", p.dy_wall, p.height, p.n_normal, "the height");
-  } else if (g.type == "box") {
-    const char* names[3] = {"x", "y", "z"};
-    for (int d = 0; d < 3; ++d) {
-      const std::string key = std::string("grid.") + names[d];
-      const Vec3 spec = r.vec3(key, "[start, end, cells]");
-      if (!(spec[2] >= 1 && spec[2] <= kMaxCellsPerDirection && spec[2] == std::floor(spec[2])))
-        r.error(key, fmt::format("the cell count (third entry) must be a whole number between 1 and {}, got {}",
-                                 kMaxCellsPerDirection, spec[2]));
-      const int n = static_cast<int>(spec[2]);
-      if (!(spec[1] > spec[0])) r.error(key, fmt::format("the end ({}) must lie beyond the start ({})", spec[1], spec[0]));
-      const std::string ck = std::string("grid.cluster_") + names[d];
-      const std::string cluster =
-          r.string_or(ck, "start", "where the first spacing applies: \"start\", \"both\" ends or the \"middle\"");
-      if (cluster != "start" && cluster != "both" && cluster != "middle")
-        r.error(ck, "expected \"start\", \"both\" or \"middle\", got '" + cluster + "'");
-      const bool halves = cluster == "both" || cluster == "middle";
-      if (halves && n % 2 != 0) r.error(key, "clustering at both ends or in the middle needs an even cell count");
-      // The first cell cannot be longer than the stretch it starts (half of it when both ends are clustered).
-      const Real span = (spec[1] - spec[0]) / (halves ? 2 : 1);
-      const std::string sk = std::string("grid.first_spacing_") + names[d];
-      const Real ds = r.number_or(sk, 0.0, "the first spacing from the start (0: uniform)", Range::between(0.0, span));
-      if (ds <= 0.0)
-        g.box_nodes[d] = uniform_nodes(spec[0], spec[1], n);
-      else if (cluster == "both")
-        g.box_nodes[d] = geometric_nodes_both_ends(spec[0], spec[1], n, ds);
-      else if (cluster == "middle")
-        g.box_nodes[d] = geometric_nodes_from_middle(spec[0], spec[1], n, ds);
-      else
-        g.box_nodes[d] = geometric_nodes(spec[0], spec[1], n, ds);
-    }
-  } else if (g.type == "body_of_revolution") {
-    auto& b = g.body;
-    const std::string body = r.string("grid.body", "the body: sphere, spheroid or suboff");
-    const Real length = r.number_or("grid.length", 1.0, "the body length (sphere: its diameter)", Range::positive());
-    if (body == "sphere") {
-      b.profile = sphere_profile(length);
-    } else if (body == "spheroid") {
-      b.profile = spheroid_profile(length, r.number("grid.ratio", "the spheroid's length-to-diameter ratio",
-                                                    Range::at_least(1.0)));
-    } else if (body == "suboff") {
-      b.profile = suboff_profile(length);
-    } else {
-      r.error("grid.body", "expected \"sphere\", \"spheroid\" or \"suboff\", got '" + body + "'");
-    }
-    b.cells_along = r.integer_or("grid.cells_along", b.cells_along, "cells along a meridian between the pole squares",
-                                 kCellCount);
-    if (b.cells_along % 2 != 0 || b.cells_along < 2)
-      r.error("grid.cells_along", fmt::format("expected an even count >= 2, got {}", b.cells_along));
-    b.cells_around = r.integer_or("grid.cells_around", b.cells_around, "cells per 90-degree sector of azimuth",
-                                  kCellCount);
-    b.cells_normal = r.integer_or("grid.cells_normal", b.cells_normal, "cells from the body to the far field",
-                                  kCellCount);
-    b.far_field = r.number_or("grid.far_field", b.far_field, "the far-field distance in body lengths",
-                              Range::at_least(1.0));
-    if (r.has("grid.first_spacing_yplus")) {
-      if (r.has("grid.first_spacing"))
-        r.error("grid.first_spacing_yplus", "give either grid.first_spacing or grid.first_spacing_yplus, not both");
-      b.first_spacing = spacing_for_y_plus(r, "grid.first_spacing_yplus", length);
-    } else {
-      b.first_spacing = r.number_or("grid.first_spacing", b.first_spacing, "the first wall-normal spacing",
-                                    Range{0.0, b.far_field * length / b.cells_normal, true, false});
-    }
-    b.pole_spacing = r.number_or("grid.pole_spacing", 0.0,
-                                 "the meridional spacing at nose and tail (0: a quarter of the mean)",
-                                 Range::between(0.0, length / b.cells_along));
-  } else if (g.type == "appended_suboff") {
+  if (g.type == "flat_plate")
+    read_flat_plate_grid(r, g.plate);
+  else if (g.type == "box")
+    read_box_grid(r, g);
+  else if (g.type == "body_of_revolution")
+    read_body_of_revolution_grid(r, g.body);
+  else if (g.type == "appended_suboff")
     read_appended_suboff_grid(r, g.appended);
-  } else if (g.type == "perturbed_box") {
-    g.perturbed_cells = r.integer("grid.cells", "cells per direction of the unit box", Range::between(1, 512));
-    // Beyond about a quarter of the box the perturbed cells fold over.
-    g.perturbed_amplitude = r.number_or("grid.amplitude", g.perturbed_amplitude, "the sinusoidal perturbation amplitude",
-                                        Range::between(-0.2, 0.2));
-  } else if (g.type == "plot3d" || g.type == "cgns") {
-    g.grid_file = r.file_path("grid.file", fmt::format("the {} grid file (relative to the case file)",
-                                                        g.type == "cgns" ? "CGNS" : "Plot3D"));
-    const std::size_t n = r.array_size("grid.patch");
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::string pre = fmt::format("grid.patch[{}].", i);
-      FilePatch p;
-      p.key = fmt::format("grid.patch[{}]", i);
-      p.block = r.integer(pre + "block", "the 1-based block number", Range::at_least(1)) - 1;
-      const std::string side = r.string(pre + "side", "one of imin, imax, jmin, jmax, kmin, kmax");
-      p.side = parse_side(side);
-      if (p.side < 0) r.error(pre + "side", "expected one of imin, imax, jmin, jmax, kmin, kmax, got '" + side + "'");
-      p.label = r.string(pre + "label", "the patch label used by [bc.<label>]");
-      // Optional cell ranges in the two tangential directions (0-based, half-open); default: whole face.
-      const int d = side_dir(p.side);
-      for (int t = 0; t < 3; ++t) {
-        p.lo[t] = 0;
-        p.hi[t] = -1;  // resolved against the block size later
-      }
-      for (int q = 0; q < 2; ++q) {
-        const int t = (d + 1 + q) % 3;
-        const std::string key = pre + "range_" + "ijk"[t];
-        if (r.has(key)) {
-          const auto [lo, hi] = r.index_range(key, "a 0-based, half-open cell range [first, last + 1]",
-                                              kMaxCellsPerDirection);
-          p.lo[t] = lo;
-          p.hi[t] = hi;
-          p.range_key[t] = key;
-        }
-      }
-      g.file_patches.push_back(p);
-    }
-  } else {
+  else if (g.type == "perturbed_box")
+    read_perturbed_box_grid(r, g);
+  else if (g.type == "plot3d" || g.type == "cgns")
+    read_grid_file(r, g);
+  else
     r.error("grid.type", "unknown grid type '" + g.type +
                              "'; valid: flat_plate, box, perturbed_box, body_of_revolution, appended_suboff, plot3d, cgns");
-  }
   if (r.has("grid.split")) {
     const Vec3 s = r.vec3("grid.split", "[parts_i, parts_j, parts_k]", Range::between(1, 64));
     for (int d = 0; d < 3; ++d) {
@@ -644,21 +666,9 @@ void read_motion(const ConfigReader& r, CaseConfig& c) {
   c.motion = m;
 }
 
-}  // namespace
-
-CaseConfig parse_case(const std::string& text, const std::string& display_name, const std::string& base_dir,
-                      const std::vector<std::string>& overrides) {
-  ConfigReader r(text, display_name);
-  const std::vector<ConfigReader::BaseFile> bases = r.merge_base(base_dir);
-  for (const auto& o : overrides) r.apply_override(o);
-  CaseConfig c;
-  c.file = display_name;
-  c.text = text;
-  for (const ConfigReader::BaseFile& b : bases)  // the restart keeps every file's text (provenance)
-    c.text += "\n# ---- base: " + b.path + " ----\n" + b.text;
-  c.title = r.string_or("case.title", "untitled", "a one-line description");
-  read_grid(r, c.grid);
-
+// [flow]: the Reynolds number, the scheme's constants, the free stream and the
+// initial state, the body force and the propulsor.
+void read_flow(const ConfigReader& r, CaseConfig& c) {
   auto& f = c.flow;
   f.reynolds = r.number("flow.reynolds", "Re = U L / nu", Range::positive());
   f.beta = r.number_or("flow.beta", f.beta, "the artificial compressibility beta (5-10)", Range::positive());
@@ -682,7 +692,10 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   c.propulsor = read_propulsor(r);
   c.manufactured = r.boolean_or("flow.manufactured_solution", false, "whether to run the §12.2 manufactured solution");
   if (c.manufactured) c.mms.nu = 1.0 / f.reynolds;
+}
 
+// [bc.<label>]: one condition per patch label.
+void read_boundary_conditions(const ConfigReader& r, CaseConfig& c) {
   for (const std::string& label : r.subtables("bc")) {
     const std::string pre = "bc." + label + ".";
     PatchBc bc = parse_bc_type(r, pre + "type");
@@ -704,6 +717,10 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
     for (const auto& a : suboff::make_configuration(c.grid.appended.configuration).appendages)
       c.bcs.try_emplace(a->name(), hull);
   }
+}
+
+// [[periodic]]: the pairs of patches that are one another's neighbours.
+void read_periodic_pairs(const ConfigReader& r, CaseConfig& c) {
   const std::size_t np = r.array_size("periodic");
   for (std::size_t i = 0; i < np; ++i) {
     const std::string pre = fmt::format("periodic[{}].", i);
@@ -716,11 +733,10 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
     p.angle_deg = r.number_or(pre + "angle", 0.0, "the rotation angle from b to a in degrees", Range::between(-360, 360));
     c.periodic.push_back(p);
   }
+}
 
-  c.split_for = r.integer_or("parallel.split_for", 0, "the rank count the blocks are cut for (0: the ranks of the run)",
-                             Range::between(0, kMaxSplitRanks));
-
-  auto& s = c.solver;
+// [solver]: convergence, divergence and the Newton-relaxation's CFL and sweeps.
+void read_solver(const ConfigReader& r, SolverConfig& s) {
   s.max_iterations = r.integer_or("solver.max_iterations", s.max_iterations, "the iteration limit",
                                   Range::between(0, 1e9));
   s.residual_drop = r.number_or("solver.residual_drop", s.residual_drop, "the residual reduction that ends the run",
@@ -762,7 +778,10 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   // A step beyond 1e-2 is no longer a derivative of the flux.
   s.newton.fd_epsilon = r.number_or("solver.fd_epsilon", s.newton.fd_epsilon, "the Jacobian difference step",
                                     Range{0.0, 1e-2, true, false});
-  auto& mg = s.multigrid;
+}
+
+// [solver] multigrid keys (§7).
+void read_multigrid(const ConfigReader& r, MultigridSettings& mg) {
   mg.levels = r.integer_or("solver.multigrid_levels", 1, "the number of multigrid levels (1: single grid)",
                           Range::between(1, 16));
   mg.min_cells = r.integer_or("solver.multigrid_min_cells", mg.min_cells,
@@ -786,7 +805,11 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
                                       Range::between(1, 1e6));
   mg.reuse_jacobian = r.boolean_or("solver.reuse_jacobian", mg.reuse_jacobian,
                                    "whether post-smoothing reuses the pre-smoothing Jacobians");
+}
 
+// [turbulence]: the model, its relaxation and its start; what is left open comes from
+// the model (with_model_defaults). Read after [flow]: the non-linear model needs the full stress.
+void read_turbulence(const ConfigReader& r, CaseConfig& c) {
   auto& t = c.turbulence;
   std::string valid_models;
   for (const auto& m : turbulence_models()) valid_models += (valid_models.empty() ? "" : ", ") + m.name;
@@ -846,7 +869,40 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   t.nonlinear.c3 = r.number_or("turbulence.nonlinear_c3", t.nonlinear.c3, "C3 of the quadratic stress (§8.5)");
   if (t.model == "nonlinear-k-epsilon" && c.flow.viscous != ViscousForm::Full)
     r.error("flow.viscous", "the non-linear k-epsilon needs the full viscous stress (\"full\", NUMERICS §4.3)");
+}
 
+// [output]: restart files and the force and moment references.
+void read_output(const ConfigReader& r, OutputConfig& o) {
+  o.restart_interval = r.integer_or("output.restart_interval", o.restart_interval,
+                                    "iterations between restart files (0: only at the end)", Range::between(0, 1e9));
+  o.reference_area = r.number_or("output.reference_area", o.reference_area, "the force reference area", Range::positive());
+  o.reference_length = r.number_or("output.reference_length", o.reference_length, "the moment reference length",
+                                    Range::positive());
+  o.moment_centre = r.vec3_or("output.moment_centre", o.moment_centre, "the moment reference point");
+}
+
+}  // namespace
+
+CaseConfig parse_case(const std::string& text, const std::string& display_name, const std::string& base_dir,
+                      const std::vector<std::string>& overrides) {
+  ConfigReader r(text, display_name);
+  const std::vector<ConfigReader::BaseFile> bases = r.merge_base(base_dir);
+  for (const auto& o : overrides) r.apply_override(o);
+  CaseConfig c;
+  c.file = display_name;
+  c.text = text;
+  for (const ConfigReader::BaseFile& b : bases)  // the restart keeps every file's text (provenance)
+    c.text += "\n# ---- base: " + b.path + " ----\n" + b.text;
+  c.title = r.string_or("case.title", "untitled", "a one-line description");
+  read_grid(r, c.grid);
+  read_flow(r, c);
+  read_boundary_conditions(r, c);
+  read_periodic_pairs(r, c);
+  c.split_for = r.integer_or("parallel.split_for", 0, "the rank count the blocks are cut for (0: the ranks of the run)",
+                             Range::between(0, kMaxSplitRanks));
+  read_solver(r, c.solver);
+  read_multigrid(r, c.solver.multigrid);
+  read_turbulence(r, c);
   read_time(r, c);
   read_motion(r, c);
   read_controls(r, c);
@@ -855,14 +911,7 @@ CaseConfig parse_case(const std::string& text, const std::string& display_name, 
   if (c.propulsor && c.propulsor->rpm_control && c.time.unsteady())
     r.error("propulsor.rpm_control", "finds a steady self-propulsion point; a dual-time run (time.steps > 0) keeps the "
                                      "rotation rate (start it from the steady run's restart, which carries the rate found)");
-
-  auto& o = c.output;
-  o.restart_interval = r.integer_or("output.restart_interval", o.restart_interval,
-                                    "iterations between restart files (0: only at the end)", Range::between(0, 1e9));
-  o.reference_area = r.number_or("output.reference_area", o.reference_area, "the force reference area", Range::positive());
-  o.reference_length = r.number_or("output.reference_length", o.reference_length, "the moment reference length",
-                                    Range::positive());
-  o.moment_centre = r.vec3_or("output.moment_centre", o.moment_centre, "the moment reference point");
+  read_output(r, c.output);
   r.reject_unknown_keys();
   return c;
 }

@@ -351,6 +351,26 @@ def load_rung(path):
     timeout = meta.get("timeout_s", float, "a time limit in seconds", default=1800.0)
     meta.finish()
 
+    runs = _read_runs(top, path, tiers)
+    sweeps, sweep_runs = _read_sweeps(top, path, tiers)
+    runs += sweep_runs
+    ids = [x.id for x in runs]
+    if len(set(ids)) != len(ids):
+        raise HarnessError(f"{path}: run ids must be unique (a sweep's are <sweep id>_<value>), got {ids}")
+    if len({x.id for x in sweeps}) != len(sweeps):
+        raise HarnessError(f"{path}: sweep ids must be unique, got {[x.id for x in sweeps]}")
+    models = _read_models(top, path)
+    _check_run_links(runs, models, path)
+    checks = _read_checks(top, path, tiers)
+    reported = _read_reported(top, path, tiers)
+    pictures = _read_pictures(top, path, tiers, ids)
+    top.finish()
+    return Rung(name=path.parent.name, title=title, directory=path.parent, tiers=tiers, timeout_s=timeout,
+                runs=runs, checks=checks, pictures=pictures, reported=reported, sweeps=sweeps, models=models)
+
+
+def _read_runs(top, path, tiers):
+    """The [[run]] tables (a sweep's runs come from _read_sweeps)."""
     runs = []
     for i, t in enumerate(top.get("run", list, "an array of [[run]] tables", default=[])):
         r = _Reader(path, t, f"run[{i}].")
@@ -375,14 +395,12 @@ def load_rung(path):
         if runs[-1].code != "narwhal" and runs[-1].max_iterations <= 0:
             raise HarnessError(f"{path}: run '{rid}': a peer run needs max_iterations (its iteration count)")
         r.finish()
-    sweeps, sweep_runs = _read_sweeps(top, path, tiers)
-    runs += sweep_runs
+    return runs
+
+
+def _check_run_links(runs, models, path):
+    """What a run names (its model, the run it restarts from, its family's h) must exist and fit."""
     ids = [x.id for x in runs]
-    if len(set(ids)) != len(ids):
-        raise HarnessError(f"{path}: run ids must be unique (a sweep's are <sweep id>_<value>), got {ids}")
-    if len({x.id for x in sweeps}) != len(sweeps):
-        raise HarnessError(f"{path}: sweep ids must be unique, got {[x.id for x in sweeps]}")
-    models = _read_models(top, path)
     for x in runs:
         if x.model and x.model not in [m.id for m in models]:
             raise HarnessError(f"{path}: run '{x.id}': model names unknown [[model]] '{x.model}'; models: "
@@ -397,6 +415,9 @@ def load_rung(path):
             raise HarnessError(f"{path}: run '{x.id}': restart_from names '{x.restart_from}', a peer run; "
                                "runs start only from a Narwhal run")
 
+
+def _read_checks(top, path, tiers):
+    """The [[check]] tables: an extractor, a reference, a closed comparator, a tolerance and its reason."""
     checks = []
     for i, t in enumerate(top.get("check", list, "an array of [[check]] tables", default=[])):
         r = _Reader(path, t, f"check[{i}].")
@@ -422,6 +443,11 @@ def load_rung(path):
             raise HarnessError(f"{path}: key 'check[{i}].rationale': must say why the tolerance is what it is")
         r.finish()
         checks.append(c)
+    return checks
+
+
+def _read_reported(top, path, tiers):
+    """The [[report]] tables: quantities shown on the rung's page without a check."""
     reported = []
     for i, t in enumerate(top.get("report", list, "an array of [[report]] tables", default=[])):
         r = _Reader(path, t, f"report[{i}].")
@@ -435,6 +461,11 @@ def load_rung(path):
             raise HarnessError(f"{path}: {e}")
         r.finish()
         reported.append(q)
+    return reported
+
+
+def _read_pictures(top, path, tiers, ids):
+    """The [[picture]] tables; the runs they draw must be the rung's."""
     pictures = []
     for i, t in enumerate(top.get("picture", list, "an array of [[picture]] tables", default=[])):
         r = _Reader(path, t, f"picture[{i}].")
@@ -469,9 +500,7 @@ def load_rung(path):
             raise HarnessError(f"{path}: {e}")
         r.finish()
         pictures.append(pic)
-    top.finish()
-    return Rung(name=path.parent.name, title=title, directory=path.parent, tiers=tiers, timeout_s=timeout,
-                runs=runs, checks=checks, pictures=pictures, reported=reported, sweeps=sweeps, models=models)
+    return pictures
 
 
 def _read_models(top, path):
