@@ -99,7 +99,11 @@ std::vector<Point> box_ring(const Box& box) {
 
 Real quad_area2(const Point& a, const Point& b, const Point& c, const Point& d) { return cross(c - a, d - b); }
 
-OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spec) {
+namespace {
+
+// The box's node counts an O-grid needs: an even number of cells on its front and back
+// (the edges are nodes) and two or more on its top and bottom.
+void check_box_counts(const Box& box, const Spec& spec) {
   const int m_front = static_cast<int>(box.front.size()) - 1, n_upper = static_cast<int>(box.top.size()) - 1;
   const int m_back = static_cast<int>(box.back.size()) - 1, n_lower = static_cast<int>(box.bottom.size()) - 1;
   if (m_front < 2 || m_front % 2 != 0 || m_back < 2 || m_back % 2 != 0)
@@ -108,8 +112,15 @@ OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spe
   if (n_upper < 2 || n_lower < 2) fail("section O-grid: the box's top and bottom need two or more cells");
   if (!(spec.leading_edge_arc > 0.0 && spec.leading_edge_arc < spec.trailing_edge_arc && spec.trailing_edge_arc < 1.0))
     fail("section O-grid: need 0 < leading_edge_arc < trailing_edge_arc < 1");
-  const std::vector<Point> outer = box_ring(box);
+}
 
+// The section's nodes, one per box node, from the lower leading-edge junction round by
+// the leading edge, the upper side and the trailing edge; the edges' normals bisect the
+// two sides' tangents (the leading edge's ahead of it, the trailing edge's along its
+// bisector, downstream).
+std::vector<SectionNode> section_nodes(const Section& section, const Box& box, const Spec& spec) {
+  const int m_front = static_cast<int>(box.front.size()) - 1, n_upper = static_cast<int>(box.top.size()) - 1;
+  const int m_back = static_cast<int>(box.back.size()) - 1, n_lower = static_cast<int>(box.bottom.size()) - 1;
   const Side up(section.upper), lo(section.lower);
   const Real ua = spec.leading_edge_arc, ub = spec.trailing_edge_arc;
   const int hf = m_front / 2, hb = m_back / 2;
@@ -152,24 +163,17 @@ OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spe
   append(nodes, lo, false, lower_arcs, true, true);
   const int around = m_front + n_upper + m_back + n_lower;
   if (static_cast<int>(nodes.size()) != around + 1) fail("section O-grid: internal: {} ring nodes", nodes.size());
-  // The edges' normals bisect the two sides' tangents (the leading edge's ahead of it,
-  // the trailing edge's along its bisector, downstream).
   SectionNode& lead = nodes[static_cast<std::size_t>(hf)];
   lead.normal = -(up.tangent(1e-9) + lo.tangent(1e-9)).normalized();
   const Real before_te = 1.0 - 1e-9;
   SectionNode& trail = nodes[static_cast<std::size_t>(m_front + n_upper + hb)];
   trail.normal = (up.tangent(before_te) + lo.tangent(before_te)).normalized();
+  return nodes;
+}
 
-  OGrid o;
-  o.split = {0, m_front, m_front + n_upper, m_front + n_upper + m_back, around};
-  const int nn = spec.cells_normal;
-  o.ring.assign(static_cast<std::size_t>(nn + 1), std::vector<Point>(static_cast<std::size_t>(around + 1)));
-  // Each line runs along its node's normal for `layer` (the boundary layer's cells are
-  // the section's offset curves: orthogonal, and no two lines meet on a convex section),
-  // then straight to its box node. At the sharp trailing edge the normals jump; they fan
-  // over the `trailing_edge_fan` nodes either side instead.
-  const int te_node = m_front + n_upper + hb;
-  const int fan = spec.trailing_edge_fan;
+// The directions the lines leave the section in: the nodes' normals, except that at the
+// sharp trailing edge (where they jump) they fan over the `fan` nodes either side.
+std::vector<Point> leaving_directions(const std::vector<SectionNode>& nodes, int te_node, int fan) {
   std::vector<Point> normal;
   for (const auto& p : nodes) normal.push_back(p.normal);
   for (int k = -fan; k <= fan; ++k) {
@@ -178,6 +182,116 @@ OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spe
     const Point side = nodes[static_cast<std::size_t>(te_node + (k < 0 ? -fan - 1 : fan + 1))].normal;
     normal[at] = ((1.0 - f) * nodes[static_cast<std::size_t>(te_node)].normal + f * side).normalized();
   }
+  return normal;
+}
+
+// One line from a section node to its box node: along the leaving direction for `layer`
+// (the boundary layer's cells are the section's offset curves: orthogonal, and no two
+// lines meet on a convex section), then straight to the box; with a knot, the knot's
+// distance along it.
+struct Line {
+  Real layer, rest, length, knot = 0.0;
+  Point turn_at;
+};
+
+std::vector<Line> plan_lines(const std::vector<SectionNode>& nodes, const std::vector<Point>& direction,
+                             const std::vector<Point>& outer, Real common_layer, const Spec& spec) {
+  const int nn = spec.cells_normal;
+  const std::size_t around = outer.size() - 1;
+  std::vector<Line> lines(around);
+  for (std::size_t s = 0; s < around; ++s) {
+    const Point q = outer[s];
+    // A line shorter than twice the layer (a box side close to an edge) leaves along the
+    // normal for half its length only.
+    Line& l = lines[s];
+    l.layer = std::min(common_layer, 0.5 * (q - nodes[s].x).norm());
+    l.turn_at = nodes[s].x + l.layer * direction[s];
+    l.rest = (q - l.turn_at).norm();
+    l.length = l.layer + l.rest;
+    if (!(l.rest > 0.0) || !(l.length > 2.0 * nn * spec.first_spacing))
+      fail("section O-grid: line {} from the section to the box is too short ({:.3g}) for {} cells from {:.3g}", s,
+           l.length, nn, spec.first_spacing);
+  }
+  return lines;
+}
+
+// The knot ring's distance along each line: at |w| = knot_w on the sides' lines, and on
+// the arcs' lines at the fraction of their length their junctions' lines have, blended.
+void place_knots(std::vector<Line>& lines, const std::vector<Point>& outer, const std::array<int, 5>& split,
+                 const Spec& spec) {
+  const int around = static_cast<int>(lines.size());
+  const int upper_end = split[2], lower_start = split[3];
+  auto on_side = [&](int s) { return (s >= split[1] && s <= upper_end) || s >= lower_start || s == 0; };
+  for (int s = 0; s < around; ++s) {
+    if (!on_side(s)) continue;
+    Line& l = lines[static_cast<std::size_t>(s)];
+    const Real w_turn = l.turn_at[1], w_box = outer[static_cast<std::size_t>(s)][1];
+    const Real target = (w_box > w_turn ? 1.0 : -1.0) * spec.knot_w;
+    // Where the box is narrower than the knot's distance (near a hull that narrows the
+    // box: levels away from the planes) the ring keeps to the lines' last tenth.
+    const Real lambda = std::clamp((target - w_turn) / (w_box - w_turn), 0.1, 0.9);
+    l.knot = l.layer + lambda * l.rest;
+  }
+  auto blend = [&](int from, int to) {
+    const Line &a = lines[static_cast<std::size_t>(from % around)], &b = lines[static_cast<std::size_t>(to % around)];
+    for (int s = from + 1; s < to; ++s) {
+      const Real f = static_cast<Real>(s - from) / (to - from);
+      Line& l = lines[static_cast<std::size_t>(s)];
+      l.knot = ((1.0 - f) * a.knot / a.length + f * b.knot / b.length) * l.length;
+    }
+  };
+  blend(0, split[1]);
+  blend(upper_end, lower_start);
+}
+
+// The nodes' distances along line `s` from the section: `in_layer` cells in the layer,
+// growing geometrically alike on every line (so the rings there are the section's offset
+// curves), the rest from the layer to the box continuing the growth (through the knot,
+// with one); a line whose layer was shortened is two-sided instead.
+std::vector<Real> line_distances(const Line& l, int s, Real common_layer, int in_layer, bool knotted,
+                                 const Spec& spec) {
+  const int nn = spec.cells_normal;
+  std::vector<Real> d;
+  if (knotted) {
+    if (!(l.layer == common_layer && in_layer >= 2 && l.knot > l.layer && l.knot < l.length))
+      fail("section O-grid: line {}'s knot ({:.4g}) does not lie between its layer and the box", s, l.knot);
+    d = geometric_nodes(0.0, l.layer, in_layer, spec.first_spacing);
+    const std::size_t e = static_cast<std::size_t>(in_layer);
+    const Real growth = (d[e] - d[e - 1]) / (d[e - 1] - d[e - 2]);
+    const auto to_knot = fitted_nodes(l.layer, l.knot, spec.knot_ring - in_layer, growth * (d[e] - d[e - 1]),
+                                      spec.knot_spacing);
+    const auto beyond = fitted_nodes(l.knot, l.length, nn - spec.knot_ring, spec.knot_spacing,
+                                     std::min(spec.outer_spacing, (l.length - l.knot) / (nn - spec.knot_ring)));
+    d.insert(d.end(), to_knot.begin() + 1, to_knot.end());
+    d.insert(d.end(), beyond.begin() + 1, beyond.end());
+  } else if (l.layer == common_layer && in_layer >= 2) {
+    d = geometric_nodes(0.0, l.layer, in_layer, spec.first_spacing);
+    const std::size_t e = static_cast<std::size_t>(in_layer);
+    const Real growth = (d[e] - d[e - 1]) / (d[e - 1] - d[e - 2]);
+    const auto beyond = fitted_nodes(l.layer, l.length, nn - in_layer, growth * (d[e] - d[e - 1]),
+                                     std::min(spec.outer_spacing, l.rest / (nn - in_layer)));
+    d.insert(d.end(), beyond.begin() + 1, beyond.end());
+  } else {
+    d = two_sided_nodes(0.0, l.length, nn, spec.first_spacing, std::min(spec.outer_spacing, l.length / nn));
+  }
+  return d;
+}
+
+}  // namespace
+
+OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spec) {
+  check_box_counts(box, spec);
+  const std::vector<Point> outer = box_ring(box);
+  const int m_front = static_cast<int>(box.front.size()) - 1, n_upper = static_cast<int>(box.top.size()) - 1;
+  const int m_back = static_cast<int>(box.back.size()) - 1;
+  const int around = static_cast<int>(outer.size()) - 1;
+  const std::vector<SectionNode> nodes = section_nodes(section, box, spec);
+  const std::vector<Point> direction =
+      leaving_directions(nodes, m_front + n_upper + m_back / 2, spec.trailing_edge_fan);
+
+  OGrid o;
+  o.split = {0, m_front, m_front + n_upper, m_front + n_upper + m_back, around};
+  const int nn = spec.cells_normal;
   // The layer holds half the cells (or cells_layer): with large first spacings (far above
   // a tip) it thickens to keep them growing.
   const int in_layer = spec.cells_layer > 0 ? spec.cells_layer : nn / 2;
@@ -187,90 +301,22 @@ OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spe
     fail("section O-grid: the knot ring ({}) must lie between the layer's {} cells and the box's {}, at a positive "
          "distance and spacing",
          spec.knot_ring, in_layer, nn);
-  // Each line's layer, the point it turns at, and (with a knot) the knot's distance along it.
-  struct Line {
-    Real layer, rest, length, knot = 0.0;
-    Point turn_at;
-  };
-  std::vector<Line> lines(static_cast<std::size_t>(around));
+  std::vector<Line> lines = plan_lines(nodes, direction, outer, common_layer, spec);
+  if (knotted) place_knots(lines, outer, o.split, spec);
+
+  o.ring.assign(static_cast<std::size_t>(nn + 1), std::vector<Point>(static_cast<std::size_t>(around + 1)));
   for (int s = 0; s < around; ++s) {
     const std::size_t us = static_cast<std::size_t>(s);
-    const Point q = outer[us];
-    // A line shorter than twice the layer (a box side close to an edge) leaves along the
-    // normal for half its length only.
-    Line& l = lines[us];
-    l.layer = std::min(common_layer, 0.5 * (q - nodes[us].x).norm());
-    l.turn_at = nodes[us].x + l.layer * normal[us];
-    l.rest = (q - l.turn_at).norm();
-    l.length = l.layer + l.rest;
-    if (!(l.rest > 0.0) || !(l.length > 2.0 * nn * spec.first_spacing))
-      fail("section O-grid: line {} from the section to the box is too short ({:.3g}) for {} cells from {:.3g}", s,
-           l.length, nn, spec.first_spacing);
-  }
-  if (knotted) {
-    const int upper_end = o.split[2], lower_start = o.split[3];
-    auto on_side = [&](int s) { return (s >= o.split[1] && s <= upper_end) || s >= lower_start || s == 0; };
-    for (int s = 0; s < around; ++s) {
-      if (!on_side(s)) continue;
-      Line& l = lines[static_cast<std::size_t>(s)];
-      const Real w_turn = l.turn_at[1], w_box = outer[static_cast<std::size_t>(s)][1];
-      const Real target = (w_box > w_turn ? 1.0 : -1.0) * spec.knot_w;
-      // Where the box is narrower than the knot's distance (near a hull that narrows the
-      // box: levels away from the planes) the ring keeps to the lines' last tenth.
-      const Real lambda = std::clamp((target - w_turn) / (w_box - w_turn), 0.1, 0.9);
-      l.knot = l.layer + lambda * l.rest;
-    }
-    // The arcs' lines: the fraction of their length at their junctions' lines, blended.
-    auto blend = [&](int from, int to) {
-      const Line &a = lines[static_cast<std::size_t>(from % around)], &b = lines[static_cast<std::size_t>(to % around)];
-      for (int s = from + 1; s < to; ++s) {
-        const Real f = static_cast<Real>(s - from) / (to - from);
-        Line& l = lines[static_cast<std::size_t>(s)];
-        l.knot = ((1.0 - f) * a.knot / a.length + f * b.knot / b.length) * l.length;
-      }
-    };
-    blend(0, o.split[1]);
-    blend(upper_end, lower_start);
-  }
-  for (int s = 0; s < around; ++s) {
-    const std::size_t us = static_cast<std::size_t>(s);
-    const SectionNode& p = nodes[us];
-    const Point q = outer[us];
     const Line& l = lines[us];
-    const Real layer = l.layer, rest = l.rest, length = l.length;
-    const Point turn_at = l.turn_at;
-    // Half the cells in the layer, growing geometrically alike on every line (so the rings
-    // there are the section's offset curves), half from the layer to the box, continuing
-    // the growth.
-    std::vector<Real> d;
-    if (knotted) {
-      if (!(layer == common_layer && in_layer >= 2 && l.knot > layer && l.knot < length))
-        fail("section O-grid: line {}'s knot ({:.4g}) does not lie between its layer and the box", s, l.knot);
-      d = geometric_nodes(0.0, layer, in_layer, spec.first_spacing);
-      const std::size_t e = static_cast<std::size_t>(in_layer);
-      const Real growth = (d[e] - d[e - 1]) / (d[e - 1] - d[e - 2]);
-      const auto to_knot = fitted_nodes(layer, l.knot, spec.knot_ring - in_layer, growth * (d[e] - d[e - 1]),
-                                        spec.knot_spacing);
-      const auto beyond = fitted_nodes(l.knot, length, nn - spec.knot_ring, spec.knot_spacing,
-                                       std::min(spec.outer_spacing, (length - l.knot) / (nn - spec.knot_ring)));
-      d.insert(d.end(), to_knot.begin() + 1, to_knot.end());
-      d.insert(d.end(), beyond.begin() + 1, beyond.end());
-    } else if (layer == common_layer && in_layer >= 2) {
-      d = geometric_nodes(0.0, layer, in_layer, spec.first_spacing);
-      const std::size_t e = static_cast<std::size_t>(in_layer);
-      const Real growth = (d[e] - d[e - 1]) / (d[e - 1] - d[e - 2]);
-      const auto beyond = fitted_nodes(layer, length, nn - in_layer, growth * (d[e] - d[e - 1]),
-                                       std::min(spec.outer_spacing, rest / (nn - in_layer)));
-      d.insert(d.end(), beyond.begin() + 1, beyond.end());
-    } else {
-      d = two_sided_nodes(0.0, length, nn, spec.first_spacing, std::min(spec.outer_spacing, length / nn));
-    }
+    const std::vector<Real> d = line_distances(l, s, common_layer, in_layer, knotted, spec);
     for (int t = 0; t <= nn; ++t) {
       const Real dt = d[static_cast<std::size_t>(t)];
       o.ring[static_cast<std::size_t>(t)][us] =
-          t == nn ? q : dt <= layer ? Point(p.x + dt * normal[us]) : Point(turn_at + (dt - layer) / rest * (q - turn_at));
+          t == nn ? outer[us]
+          : dt <= l.layer ? Point(nodes[us].x + dt * direction[us])
+                          : Point(l.turn_at + (dt - l.layer) / l.rest * (outer[us] - l.turn_at));
     }
-    o.u.push_back(p.u);
+    o.u.push_back(nodes[us].u);
   }
   for (auto& r : o.ring) r.back() = r.front();
   o.u.push_back(o.u.front());
