@@ -99,19 +99,21 @@ std::ofstream open_for_writing(const std::filesystem::path& p) {
   return out;
 }
 
-}  // namespace
+// Every node's point number, block by block, and where each block's cells start in the
+// mesh's numbering.
+struct NodeNumbering {
+  std::vector<std::vector<int>> ids;
+  std::vector<int> cell_offset;
+};
 
-OpenFoamMeshCounts write_openfoam_mesh(const std::string& case_dir, const Grid& g) {
-  for (const Interface& f : g.interfaces)
-    if (f.periodic) fail("OpenFOAM export: block '{}' has a periodic interface, which this export does not support",
-                         g.blocks[static_cast<std::size_t>(f.block)].name);
-  PointIndex index(1e-10 * std::max(extent(g), Real(1e-300)));
-  std::vector<std::vector<int>> node_ids(g.blocks.size());
-  std::vector<int> cell_offset(g.blocks.size() + 1, 0);
+NodeNumbering number_nodes(const Grid& g, PointIndex& index) {
+  NodeNumbering nodes;
+  nodes.ids.resize(g.blocks.size());
+  nodes.cell_offset.assign(g.blocks.size() + 1, 0);
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
-    cell_offset[ib + 1] = cell_offset[ib] + static_cast<int>(b.cells());
-    auto& ids = node_ids[ib];
+    nodes.cell_offset[ib + 1] = nodes.cell_offset[ib] + static_cast<int>(b.cells());
+    auto& ids = nodes.ids[ib];
     ids.reserve(static_cast<std::size_t>(b.ni + 1) * (b.nj + 1) * (b.nk + 1));
     for (int k = 0; k <= b.nk; ++k)
       for (int j = 0; j <= b.nj; ++j)
@@ -120,18 +122,27 @@ OpenFoamMeshCounts write_openfoam_mesh(const std::string& case_dir, const Grid& 
           ids.push_back(on_side ? index.shared(b.x(i, j, k)) : index.interior(b.x(i, j, k)));
         }
   }
+  return nodes;
+}
 
+// The mesh's faces: internal ones (owner < neighbour, sorted as OpenFOAM wants them) and
+// boundary ones by patch label, the labels in order of first appearance.
+struct MeshFaces {
   std::vector<Face> internal;
-  std::vector<std::string> labels;  // in order of first appearance
+  std::vector<std::string> labels;
   std::map<std::string, std::vector<Face>> boundary;
   std::map<std::string, bool> is_wall;
+};
+
+MeshFaces collect_faces(const Grid& g, const NodeNumbering& nodes) {
+  MeshFaces m;
   std::map<Quad, Face> unmatched;  // block-boundary faces off the patches, by sorted points
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const Block& b = g.blocks[ib];
-    const auto& ids = node_ids[ib];
+    const auto& ids = nodes.ids[ib];
     // Cells block by block in the grid's block order, i fastest: the harness starts a peer run
     // from a Narwhal solution by this numbering (validation/harness/openfoam.py, seed_from_narwhal).
-    auto cell = [&](const Index3& c) { return cell_offset[ib] + c[0] + b.ni * (c[1] + b.nj * c[2]); };
+    auto cell = [&](const Index3& c) { return nodes.cell_offset[ib] + c[0] + b.ni * (c[1] + b.nj * c[2]); };
     for (int d = 0; d < 3; ++d) {
       // Faces inside the block: from the lower cell to the upper one.
       for (int k = 0; k < b.nk + (d == 2); ++k)
@@ -139,7 +150,7 @@ OpenFoamMeshCounts write_openfoam_mesh(const std::string& case_dir, const Grid& 
           for (int i = 0; i < b.ni + (d == 0); ++i) {
             const Index3 n{i, j, k};
             if (n[d] == 0 || n[d] == b.n(d)) continue;
-            internal.push_back({cell(add(n, unit(d), -1)), cell(n), face_nodes(ids, b, d, n)});
+            m.internal.push_back({cell(add(n, unit(d), -1)), cell(n), face_nodes(ids, b, d, n)});
           }
     }
     // Block sides: patch faces, or faces to be joined to another block's.
@@ -147,9 +158,9 @@ OpenFoamMeshCounts write_openfoam_mesh(const std::string& case_dir, const Grid& 
     for (const Patch& p : b.patches) {
       if (p.type == BcType::Interface) continue;
       const int d = side_dir(p.side), t1 = (d + 1) % 3, t2 = (d + 2) % 3;
-      if (std::find(labels.begin(), labels.end(), p.label) == labels.end()) labels.push_back(p.label);
-      is_wall[p.label] = p.type == BcType::Wall;
-      auto& faces = boundary[p.label];
+      if (std::find(m.labels.begin(), m.labels.end(), p.label) == m.labels.end()) m.labels.push_back(p.label);
+      m.is_wall[p.label] = p.type == BcType::Wall;
+      auto& faces = m.boundary[p.label];
       auto& cov = covered[static_cast<std::size_t>(p.side)];
       cov.resize(static_cast<std::size_t>(b.n(t1)) * b.n(t2), 0);
       for (int b2 = p.lo[t2]; b2 < p.hi[t2]; ++b2)
@@ -191,76 +202,95 @@ OpenFoamMeshCounts write_openfoam_mesh(const std::string& case_dir, const Grid& 
           unmatched.erase(it);
           // From the lower-numbered cell, whose outward orientation is the face's.
           if (other.owner < cell(c))
-            internal.push_back({other.owner, cell(c), other.nodes});
+            m.internal.push_back({other.owner, cell(c), other.nodes});
           else
-            internal.push_back({cell(c), other.owner, outward});
+            m.internal.push_back({cell(c), other.owner, outward});
         }
     }
   }
   if (!unmatched.empty())
     fail("OpenFOAM export: {} block-boundary face(s) have neither a patch nor a matching face of another block",
          unmatched.size());
-  std::sort(internal.begin(), internal.end(), [](const Face& a, const Face& b) {
+  std::sort(m.internal.begin(), m.internal.end(), [](const Face& a, const Face& b) {
     return a.owner != b.owner ? a.owner < b.owner : a.neighbour < b.neighbour;
   });
+  return m;
+}
+
+void write_points(const std::filesystem::path& dir, const PointIndex& index) {
+  auto out = open_for_writing(dir / "points");
+  write_header(out, "vectorField", "points");
+  out << index.points().size() << "\n(\n";
+  for (const Vec3& x : index.points()) out << '(' << x[0] << ' ' << x[1] << ' ' << x[2] << ")\n";
+  out << ")\n";
+}
+
+// faces, owner and neighbour: the internal faces first, then each patch's.
+void write_faces(const std::filesystem::path& dir, const MeshFaces& m, const OpenFoamMeshCounts& n) {
+  const std::string note = fmt::format("nPoints:{}  nCells:{}  nFaces:{}  nInternalFaces:{}", n.points, n.cells,
+                                       n.faces, n.internal_faces);
+  auto faces = open_for_writing(dir / "faces");
+  auto owner = open_for_writing(dir / "owner");
+  auto neighbour = open_for_writing(dir / "neighbour");
+  write_header(faces, "faceList", "faces");
+  write_header(owner, "labelList", "owner", note);
+  write_header(neighbour, "labelList", "neighbour", note);
+  faces << n.faces << "\n(\n";
+  owner << n.faces << "\n(\n";
+  neighbour << n.internal_faces << "\n(\n";
+  auto face = [&](const Face& f) {
+    faces << "4(" << f.nodes[0] << ' ' << f.nodes[1] << ' ' << f.nodes[2] << ' ' << f.nodes[3] << ")\n";
+    owner << f.owner << '\n';
+  };
+  for (const Face& f : m.internal) {
+    face(f);
+    neighbour << f.neighbour << '\n';
+  }
+  for (const std::string& label : m.labels)
+    for (const Face& f : m.boundary.at(label)) face(f);
+  faces << ")\n";
+  owner << ")\n";
+  neighbour << ")\n";
+  if (!faces || !owner || !neighbour) fail("OpenFOAM export: writing {} failed", dir.string());
+}
+
+void write_boundary(const std::filesystem::path& dir, const MeshFaces& m, std::size_t internal_faces) {
+  auto out = open_for_writing(dir / "boundary");
+  write_header(out, "polyBoundaryMesh", "boundary");
+  out << m.labels.size() << "\n(\n";
+  std::size_t start = internal_faces;
+  for (const std::string& label : m.labels) {
+    const std::size_t count = m.boundary.at(label).size();
+    out << "    " << label << "\n    {\n        type " << (m.is_wall.at(label) ? "wall" : "patch") << ";\n";
+    if (m.is_wall.at(label)) out << "        inGroups 1(wall);\n";
+    out << "        nFaces " << count << ";\n        startFace " << start << ";\n    }\n";
+    start += count;
+  }
+  out << ")\n";
+}
+
+}  // namespace
+
+OpenFoamMeshCounts write_openfoam_mesh(const std::string& case_dir, const Grid& g) {
+  for (const Interface& f : g.interfaces)
+    if (f.periodic) fail("OpenFOAM export: block '{}' has a periodic interface, which this export does not support",
+                         g.blocks[static_cast<std::size_t>(f.block)].name);
+  PointIndex index(1e-10 * std::max(extent(g), Real(1e-300)));
+  const NodeNumbering nodes = number_nodes(g, index);
+  const MeshFaces m = collect_faces(g, nodes);
 
   OpenFoamMeshCounts n;
   n.points = index.points().size();
-  n.cells = static_cast<std::size_t>(cell_offset.back());
-  n.internal_faces = internal.size();
-  n.faces = internal.size();
-  for (const auto& [label, faces] : boundary) n.faces += faces.size();
+  n.cells = static_cast<std::size_t>(nodes.cell_offset.back());
+  n.internal_faces = m.internal.size();
+  n.faces = m.internal.size();
+  for (const auto& [label, faces] : m.boundary) n.faces += faces.size();
 
   const std::filesystem::path dir = std::filesystem::path(case_dir) / "constant" / "polyMesh";
   std::filesystem::create_directories(dir);
-  const std::string note = fmt::format("nPoints:{}  nCells:{}  nFaces:{}  nInternalFaces:{}", n.points, n.cells,
-                                       n.faces, n.internal_faces);
-  {
-    auto out = open_for_writing(dir / "points");
-    write_header(out, "vectorField", "points");
-    out << n.points << "\n(\n";
-    for (const Vec3& x : index.points()) out << '(' << x[0] << ' ' << x[1] << ' ' << x[2] << ")\n";
-    out << ")\n";
-  }
-  {
-    auto faces = open_for_writing(dir / "faces");
-    auto owner = open_for_writing(dir / "owner");
-    auto neighbour = open_for_writing(dir / "neighbour");
-    write_header(faces, "faceList", "faces");
-    write_header(owner, "labelList", "owner", note);
-    write_header(neighbour, "labelList", "neighbour", note);
-    faces << n.faces << "\n(\n";
-    owner << n.faces << "\n(\n";
-    neighbour << n.internal_faces << "\n(\n";
-    auto face = [&](const Face& f) {
-      faces << "4(" << f.nodes[0] << ' ' << f.nodes[1] << ' ' << f.nodes[2] << ' ' << f.nodes[3] << ")\n";
-      owner << f.owner << '\n';
-    };
-    for (const Face& f : internal) {
-      face(f);
-      neighbour << f.neighbour << '\n';
-    }
-    for (const std::string& label : labels)
-      for (const Face& f : boundary[label]) face(f);
-    faces << ")\n";
-    owner << ")\n";
-    neighbour << ")\n";
-    if (!faces || !owner || !neighbour) fail("OpenFOAM export: writing {} failed", dir.string());
-  }
-  {
-    auto out = open_for_writing(dir / "boundary");
-    write_header(out, "polyBoundaryMesh", "boundary");
-    out << labels.size() << "\n(\n";
-    std::size_t start = n.internal_faces;
-    for (const std::string& label : labels) {
-      const std::size_t count = boundary[label].size();
-      out << "    " << label << "\n    {\n        type " << (is_wall[label] ? "wall" : "patch") << ";\n";
-      if (is_wall[label]) out << "        inGroups 1(wall);\n";
-      out << "        nFaces " << count << ";\n        startFace " << start << ";\n    }\n";
-      start += count;
-    }
-    out << ")\n";
-  }
+  write_points(dir, index);
+  write_faces(dir, m, n);
+  write_boundary(dir, m, n.internal_faces);
   return n;
 }
 
