@@ -170,9 +170,10 @@ void BM_MultigridVCyclePerCell(benchmark::State& st) {
 }
 BENCHMARK(BM_MultigridVCyclePerCell)->Unit(benchmark::kMillisecond);
 
-// The TMR plate's 137 x 97 level with a turbulence model, advanced a few cycles from
-// the uniform start (planar, as `narwhal run` treats it).
-struct TurbulentPlate {
+// A turbulent case of the ladder (path under validation/cases/, with --set values), set
+// up as `narwhal run` does (planar where a direction is invariant); cycle() advances it
+// one multigrid cycle with the model updated.
+struct TurbulentCase {
   CaseConfig c;
   Grid g;
   FlowField f;
@@ -180,10 +181,8 @@ struct TurbulentPlate {
   std::unique_ptr<Multigrid> mg;
   std::unique_ptr<TurbulenceCoupling> coupling;
   TurbulenceModel* model = nullptr;
-  TurbulentPlate(const std::string& model_name, std::vector<std::string> sets) {
-    sets.push_back("grid.coarsen=1");
-    c = load_case(std::string(NARWHAL_SOURCE_DIR) + "/validation/cases/tmr_flat_plate/flat_plate_" + model_name + ".toml",
-                  sets);
+  TurbulentCase(const std::string& case_path, const std::vector<std::string>& sets) {
+    c = load_case(std::string(NARWHAL_SOURCE_DIR) + "/validation/cases/" + case_path, sets);
     g = build_grid(c);
     fp = flow_params(c);
     f.allocate(g, fp, c.initial);
@@ -193,6 +192,16 @@ struct TurbulentPlate {
     model = coupling->model();
   }
   void cycle() { coupling->after_mean_flow_step(mg->cycle().cfl); }
+};
+
+// The TMR plate's 137 x 97 level with a turbulence model (planar).
+struct TurbulentPlate : TurbulentCase {
+  TurbulentPlate(const std::string& model_name, std::vector<std::string> sets)
+      : TurbulentCase("tmr_flat_plate/flat_plate_" + model_name + ".toml", with_coarsening(std::move(sets))) {}
+  static std::vector<std::string> with_coarsening(std::vector<std::string> sets) {
+    sets.push_back("grid.coarsen=1");
+    return sets;
+  }
 };
 
 // One turbulent V-cycle (SA, its default scheme: the model updated after every
@@ -216,6 +225,18 @@ void BM_TurbulenceUpdatePerCell(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations() * p.g.cells());
 }
 BENCHMARK(BM_TurbulenceUpdatePerCell)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// One SST update with line relaxation (assembly, 8 sweep pairs, update) on the quick
+// appended SUBOFF member (AFF-8, scale 0.25 of appended.toml, 154 k cells): a 3-D grid whose
+// blocks relax along each of the three index directions, the j-lines among them striding
+// through memory (implicit/line_solver.hpp). Started from five cycles of the case.
+void BM_TurbulenceUpdateAppendedPerCell(benchmark::State& st) {
+  TurbulentCase p("suboff_appended/appended.toml", {"grid.scale=0.25"});
+  for (int i = 0; i < 5; ++i) p.cycle();
+  for (auto _ : st) p.model->advance(p.g, p.f, p.fp, 1e6);
+  st.SetItemsProcessed(st.iterations() * p.g.cells());
+}
+BENCHMARK(BM_TurbulenceUpdateAppendedPerCell)->Unit(benchmark::kMillisecond);
 
 // The wall distance of every cell of the quick appended SUBOFF member (AFF-8, scale 0.25 of
 // appended.toml: 154 k cells, 6 walls), as each turbulent run's start pays it.

@@ -101,11 +101,19 @@ Real quad_area2(const Point& a, const Point& b, const Point& c, const Point& d) 
 
 namespace {
 
+// The box's cells along each side.
+struct BoxCounts {
+  int front, upper, back, lower;
+};
+BoxCounts box_counts(const Box& box) {
+  auto cells = [](const std::vector<Point>& side) { return static_cast<int>(side.size()) - 1; };
+  return {cells(box.front), cells(box.top), cells(box.back), cells(box.bottom)};
+}
+
 // The box's node counts an O-grid needs: an even number of cells on its front and back
 // (the edges are nodes) and two or more on its top and bottom.
 void check_box_counts(const Box& box, const Spec& spec) {
-  const int m_front = static_cast<int>(box.front.size()) - 1, n_upper = static_cast<int>(box.top.size()) - 1;
-  const int m_back = static_cast<int>(box.back.size()) - 1, n_lower = static_cast<int>(box.bottom.size()) - 1;
+  const auto [m_front, n_upper, m_back, n_lower] = box_counts(box);
   if (m_front < 2 || m_front % 2 != 0 || m_back < 2 || m_back % 2 != 0)
     fail("section O-grid: the box's front and back need an even number of cells (the edges are nodes), got {} and {}",
          m_front, m_back);
@@ -119,8 +127,7 @@ void check_box_counts(const Box& box, const Spec& spec) {
 // two sides' tangents (the leading edge's ahead of it, the trailing edge's along its
 // bisector, downstream).
 std::vector<SectionNode> section_nodes(const Section& section, const Box& box, const Spec& spec) {
-  const int m_front = static_cast<int>(box.front.size()) - 1, n_upper = static_cast<int>(box.top.size()) - 1;
-  const int m_back = static_cast<int>(box.back.size()) - 1, n_lower = static_cast<int>(box.bottom.size()) - 1;
+  const auto [m_front, n_upper, m_back, n_lower] = box_counts(box);
   const Side up(section.upper), lo(section.lower);
   const Real ua = spec.leading_edge_arc, ub = spec.trailing_edge_arc;
   const int hf = m_front / 2, hb = m_back / 2;
@@ -282,8 +289,7 @@ std::vector<Real> line_distances(const Line& l, int s, Real common_layer, int in
 OGrid make_section_ogrid(const Section& section, const Box& box, const Spec& spec) {
   check_box_counts(box, spec);
   const std::vector<Point> outer = box_ring(box);
-  const int m_front = static_cast<int>(box.front.size()) - 1, n_upper = static_cast<int>(box.top.size()) - 1;
-  const int m_back = static_cast<int>(box.back.size()) - 1;
+  const auto [m_front, n_upper, m_back, n_lower] = box_counts(box);
   const int around = static_cast<int>(outer.size()) - 1;
   const std::vector<SectionNode> nodes = section_nodes(section, box, spec);
   const std::vector<Point> direction =
