@@ -102,7 +102,7 @@ BENCHMARK(BM_ResidualPerCell)->Unit(benchmark::kMillisecond);
 
 void BM_NewtonIterationPerCell(benchmark::State& st) {
   Plate p({"solver.sgs_iterations=1"});
-  NewtonSolver s(p.g, p.f, p.fp, p.c.solver.newton);
+  NewtonSolver s(p.g, p.f, p.fp, p.c.solver.newton, Communicator::world());
   for (int i = 0; i < 10; ++i) s.iterate();
   for (auto _ : st) s.iterate();  // residual, Jacobians, one SGS pair, update
   st.SetItemsProcessed(st.iterations() * p.g.cells());
@@ -118,7 +118,7 @@ void BM_NewtonIterationPerCell3D(benchmark::State& st) {
   const FlowParams fp = flow_params(c);
   FlowField f;
   f.allocate(g, fp, c.initial);
-  NewtonSolver s(g, f, fp, c.solver.newton);
+  NewtonSolver s(g, f, fp, c.solver.newton, Communicator::world());
   for (int i = 0; i < 10; ++i) s.iterate();
   for (auto _ : st) s.iterate();
   st.SetItemsProcessed(st.iterations() * g.cells());
@@ -127,7 +127,7 @@ BENCHMARK(BM_NewtonIterationPerCell3D)->Unit(benchmark::kMillisecond);
 
 void BM_SgsSweepPairPerCell(benchmark::State& st) {
   Plate p({}, false);
-  NewtonSolver s(p.g, p.f, p.fp, p.c.solver.newton);
+  NewtonSolver s(p.g, p.f, p.fp, p.c.solver.newton, Communicator::world());
   for (int i = 0; i < 10; ++i) s.iterate();
   for (auto _ : st) s.sweeps_only(1);  // one forward + one backward sweep
   st.SetItemsProcessed(st.iterations() * p.g.cells());
@@ -138,7 +138,7 @@ BENCHMARK(BM_SgsSweepPairPerCell)->Unit(benchmark::kMillisecond);
 // to set beside a sweep pair's cost.
 void BM_LinearResidualCheckPerCell(benchmark::State& st) {
   Plate p({}, false);
-  NewtonSolver s(p.g, p.f, p.fp, p.c.solver.newton);
+  NewtonSolver s(p.g, p.f, p.fp, p.c.solver.newton, Communicator::world());
   for (int i = 0; i < 10; ++i) s.iterate();
   for (auto _ : st) benchmark::DoNotOptimize(s.linear_residual_ratio_collective(1.0));
   st.SetItemsProcessed(st.iterations() * p.g.cells());
@@ -151,7 +151,7 @@ void BM_SgsSweepPairPerCellFine(benchmark::State& st) {
   Plate p({"grid.cells_runup=64", "grid.cells_plate=192", "grid.cells_normal=128", "grid.dx_leading_edge=1.0e-3",
            "grid.dy_wall=5.0e-5"},
           false);
-  NewtonSolver s(p.g, p.f, p.fp, p.c.solver.newton);
+  NewtonSolver s(p.g, p.f, p.fp, p.c.solver.newton, Communicator::world());
   for (int i = 0; i < 3; ++i) s.iterate();
   for (auto _ : st) s.sweeps_only(1);
   st.SetItemsProcessed(st.iterations() * p.g.cells());
@@ -163,7 +163,7 @@ void BM_MultigridVCyclePerCell(benchmark::State& st) {
   MultigridSettings ms;
   ms.levels = 4;
   ms.gamma = 1;
-  Multigrid mg(p.g, p.f, p.fp, p.c.solver.newton, ms);
+  Multigrid mg(p.g, p.f, p.fp, p.c.solver.newton, ms, Communicator::world());
   for (int i = 0; i < 5; ++i) mg.cycle();
   for (auto _ : st) mg.cycle();
   st.SetItemsProcessed(st.iterations() * p.g.cells());
@@ -187,7 +187,7 @@ struct TurbulentCase {
     fp = flow_params(c);
     f.allocate(g, fp, c.initial);
     mark_invariant_directions(g, f, fp);
-    mg = std::make_unique<Multigrid>(g, f, fp, c.solver.newton, c.solver.multigrid);
+    mg = std::make_unique<Multigrid>(g, f, fp, c.solver.newton, c.solver.multigrid, Communicator::world());
     coupling = std::make_unique<TurbulenceCoupling>(c.turbulence, g, f, fp, mg.get(), false, Communicator::world());
     model = coupling->model();
   }

@@ -288,7 +288,7 @@ class SteadyRun {
     distribute(g_, comm_.size(), comm_.rank());
     fp_ = flow_params(c_);
     if (c_.bulk_velocity > 0.0) {
-      flow_rate_ = std::make_unique<FlowRateControl>(g_, c_.body_force, c_.bulk_velocity);
+      flow_rate_ = std::make_unique<FlowRateControl>(comm_, g_, c_.body_force, c_.bulk_velocity);
       fp_.sources = {position_source("flow-rate control", flow_rate_->source())};  // it adjusts the body force
     }
     add_propulsor();
@@ -298,7 +298,7 @@ class SteadyRun {
   // §9: the propulsor (app/propulsion_control.hpp), one more entry of the source list.
   void add_propulsor() {
     if (!c_.propulsor) return;
-    propulsion_ = std::make_unique<PropulsionControl>(c_, g_);  // collective: the disk's cells on every rank
+    propulsion_ = std::make_unique<PropulsionControl>(c_, g_, comm_);  // collective: the disk's cells on every rank
     fp_.sources.push_back(propulsion_->source());
   }
 
@@ -350,10 +350,10 @@ class SteadyRun {
       if (!note.empty() && root_) fmt::print("narwhal: {}\n", note);
     }
     if (c_.solver.multigrid.levels > 1) {
-      mg_ = std::make_unique<Multigrid>(g_, field_, fp_, c_.solver.newton, c_.solver.multigrid);
+      mg_ = std::make_unique<Multigrid>(g_, field_, fp_, c_.solver.newton, c_.solver.multigrid, comm_);
       if (!mg_->level_note().empty() && root_) fmt::print("narwhal: {}\n", mg_->level_note());
     } else {
-      single_ = std::make_unique<NewtonSolver>(g_, field_, fp_, c_.solver.newton);
+      single_ = std::make_unique<NewtonSolver>(g_, field_, fp_, c_.solver.newton, comm_);
     }
     coupling_ = std::make_unique<TurbulenceCoupling>(c_.turbulence, g_, field_, fp_, mg_.get(),
                                                      opt_.restart.has_value(), comm_);
@@ -777,7 +777,7 @@ class SteadyRun {
 
   void measure_forces() {
     wall_faces(g_, field_, fp_, faces_);
-    forces_ = integrate_forces(g_, faces_, c_.output.reference_area, c_.output.reference_length, moment_centre());
+    forces_ = integrate_forces(comm_, g_, faces_, c_.output.reference_area, c_.output.reference_length, moment_centre());
   }
 
   // Residuals down by solver.residual_drop and, when the case asks, forces steady.
@@ -967,7 +967,7 @@ class SteadyRun {
     }
     if (previous_.Q.empty()) previous_.allocate_states(g_, c_.initial);
     dual_time_->save_previous(g_, previous_);
-    gather_to_root(g_, previous_);
+    gather_to_root(comm_, g_, previous_);
     if (!pieces_) return previous_;
     if (root_) {
       if (whole_previous_.Q.empty()) whole_previous_.allocate_states(whole_, c_.initial);
@@ -978,7 +978,7 @@ class SteadyRun {
 
   // The root writes files in the case's layout from every rank's cells.
   FlowField& assemble() {
-    gather_to_root(g_, field_);
+    gather_to_root(comm_, g_, field_);
     if (!pieces_) return field_;
     if (root_) {
       if (whole_field_.Q.empty()) whole_field_.allocate(whole_, fp_, c_.initial);

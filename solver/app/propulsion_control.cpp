@@ -6,13 +6,14 @@
 
 namespace narwhal {
 
-PropulsionControl::PropulsionControl(const CaseConfig& c, const Grid& g)
-    : propulsor_(std::make_shared<BodyForcePropulsor>(c.propulsor->spec, c.propulsor->curve)),
+PropulsionControl::PropulsionControl(const CaseConfig& c, const Grid& g, const Communicator& comm)
+    : comm_(comm),
+      propulsor_(std::make_shared<BodyForcePropulsor>(c.propulsor->spec, c.propulsor->curve)),
       reference_area_(c.output.reference_area),
       water_(far_water_velocity(c)) {
   // The towing speed: the vehicle's speed through the water along the axis.
   propulsor_->set_surge_speed(-water_.dot(propulsor_->axis()));
-  propulsor_->normalise(g);
+  propulsor_->normalise(comm_, g);
   if (c.propulsor->rpm_control) rpm_.emplace(*c.propulsor->rpm_control);
 }
 
@@ -22,7 +23,7 @@ void PropulsionControl::follow(const RigidMotionSample& m, const Vec3& pivot) {
   propulsor_->set_surge_speed((disk_velocity - water_).dot(propulsor_->axis()));
 }
 
-void PropulsionControl::after_subiteration(const Grid& g, const FlowField& f) { propulsor_->measure_inflow(g, f.Q); }
+void PropulsionControl::after_subiteration(const Grid& g, const FlowField& f) { propulsor_->measure_inflow(comm_, g, f.Q); }
 
 BodyLoads PropulsionControl::vehicle_loads(const Vec3& origin) const {
   return {propulsor_->vehicle_force(), propulsor_->vehicle_moment(origin)};
@@ -30,7 +31,7 @@ BodyLoads PropulsionControl::vehicle_loads(const Vec3& origin) const {
 
 void PropulsionControl::after_cycle(int cycle, const Grid& g, const FlowField& f,
                                     const std::map<std::string, ForceCoefficients>& forces) {
-  propulsor_->measure_inflow(g, f.Q);
+  propulsor_->measure_inflow(comm_, g, f.Q);
   // The flow's force on the walls against the thrust's direction: C_F = 2 F / A_ref
   // (rho = U = 1).
   Real along = 0.0;

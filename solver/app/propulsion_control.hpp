@@ -15,6 +15,7 @@
 #include "config/case_config.hpp"
 #include "motion/grid_motion.hpp"
 #include "motion/rigid_body.hpp"
+#include "parallel/communicator.hpp"
 #include "physics/wall_forces.hpp"
 #include "propulsion/body_force_propulsor.hpp"
 #include "propulsion/rpm_controller.hpp"
@@ -23,15 +24,15 @@ namespace narwhal {
 
 class PropulsionControl {
  public:
-  // The operating point at the towing speed, the disk normalised on g's cells (collective
-  // over the ranks sharing g).
-  PropulsionControl(const CaseConfig& c, const Grid& g);
+  // The operating point at the towing speed, the disk normalised on g's cells. `comm`: the
+  // ranks sharing g; the constructor, after_cycle, walls_moved and after_subiteration are
+  // collective over it.
+  PropulsionControl(const CaseConfig& c, const Grid& g, const Communicator& comm);
 
   std::shared_ptr<VolumeSource> source() const { return propulsor_; }
   const BodyForcePropulsor& propulsor() const { return *propulsor_; }
 
-  // After cycle `cycle`: the advance speed from the flow (collective over the ranks sharing
-  // g), then the controller's step on the resistance of the wall forces (coefficients on
+  // After cycle `cycle`: the advance speed from the flow (collective), then the controller's step on the resistance of the wall forces (coefficients on
   // output.reference_area, as measure_forces leaves them on every rank).
   void after_cycle(int cycle, const Grid& g, const FlowField& f,
                    const std::map<std::string, ForceCoefficients>& forces);
@@ -40,10 +41,10 @@ class PropulsionControl {
   // the disk centre's velocity (NUMERICS §9.1).
   void follow(const RigidMotionSample& m, const Vec3& pivot);
   // The grid deformed near the disk (control surfaces turned): its cells found again on
-  // g's present nodes (collective over the ranks sharing g).
-  void walls_moved(const Grid& g) { propulsor_->normalise(g); }
+  // g's present nodes (collective).
+  void walls_moved(const Grid& g) { propulsor_->normalise(comm_, g); }
   // After a dual-time sub-iteration: the advance speed from the flow, when the case
-  // measures it (collective over the ranks sharing g). The rotation rate stays.
+  // measures it (collective). The rotation rate stays.
   void after_subiteration(const Grid& g, const FlowField& f);
   // The propulsor's loads on the vehicle (§9.5), grid (earth) axes, about `origin`, in
   // flow units (rho = 1).
@@ -60,6 +61,7 @@ class PropulsionControl {
   std::string describe() const;
 
  private:
+  Communicator comm_;
   std::shared_ptr<BodyForcePropulsor> propulsor_;
   std::optional<RpmController> rpm_;
   Real reference_area_ = 1.0;

@@ -81,8 +81,8 @@ std::string describe_largest_cell_collective(const Grid& g, const Communicator& 
 
 }  // namespace
 
-NewtonSolver::NewtonSolver(Grid& g, FlowField& f, const FlowParams& fp, NewtonSettings s)
-    : g_(g), f_(f), fp_(fp), s_(s), guard_(s.rise_limit) {
+NewtonSolver::NewtonSolver(Grid& g, FlowField& f, const FlowParams& fp, NewtonSettings s, const Communicator& comm)
+    : g_(g), f_(f), fp_(fp), s_(s), comm_(comm), guard_(s.rise_limit) {
   const std::size_t nb = g.blocks.size();
   R_.resize(nb);
   dQ_.resize(nb);
@@ -118,7 +118,7 @@ IterationNorms NewtonSolver::norms() const {
     });
     s[kNumEq] = static_cast<Real>(b.cells());
   }
-  const std::vector<Real> total = sum_in_block_order(g_, std::move(partial), width);
+  const std::vector<Real> total = sum_in_block_order(comm_, g_, std::move(partial), width);
   IterationNorms n;
   for (int m = 0; m < kNumEq; ++m) {
     n.l2[m] = std::sqrt(total[m] / total[kNumEq]);
@@ -169,17 +169,16 @@ void NewtonSolver::check_finite() const {
     if (!what.empty()) throw DivergenceError(what);
     return;
   }
-  const Communicator comm = Communicator::world();
-  const int first = static_cast<int>(comm.min(what.empty() ? comm.size() : comm.rank()));
-  if (first == comm.size()) return;
-  comm.broadcast(what, first);
+  const int first = static_cast<int>(comm_.min(what.empty() ? comm_.size() : comm_.rank()));
+  if (first == comm_.size()) return;
+  comm_.broadcast(what, first);
   throw DivergenceError(what);
 }
 
 std::string NewtonSolver::describe_largest_residual(int equation) const {
   int largest_equation = 0;  // of the cell value() looked at last
   return describe_largest_cell_collective(
-      g_, Communicator::world(),
+      g_, comm_,
       [&](std::size_t ib, const Block& b, int i, int j, int k) {
         Real r = -1.0;
         for (int m = 0; m < kNumEq; ++m) {
@@ -412,7 +411,7 @@ Real NewtonSolver::linear_residual_ratio_collective(Real nonlinear_total) const 
       partial[ib] += (linear_residual(static_cast<int>(ib), {i, j, k}) / b.vol(i, j, k)).squaredNorm();
     });
   }
-  const std::vector<Real> total = sum_in_block_order(g_, std::move(partial), 1);
+  const std::vector<Real> total = sum_in_block_order(comm_, g_, std::move(partial), 1);
   Real cells = 0.0;
   for (const Block& b : g_.blocks) cells += static_cast<Real>(b.cells());
   const Real linear_total = std::sqrt(total[0] / cells);
@@ -422,7 +421,7 @@ Real NewtonSolver::linear_residual_ratio_collective(Real nonlinear_total) const 
 
 std::string NewtonSolver::describe_largest_linear_residual_collective() const {
   return describe_largest_cell_collective(
-      g_, Communicator::world(),
+      g_, comm_,
       [&](std::size_t ib, const Block& b, int i, int j, int k) {
         return linear_residual(static_cast<int>(ib), {i, j, k}).norm() / b.vol(i, j, k);
       },

@@ -10,6 +10,7 @@
 #include "implicit/cfl_control.hpp"
 #include "implicit/physical_time.hpp"
 #include "mesh/block.hpp"
+#include "parallel/communicator.hpp"
 #include "physics/flow.hpp"
 
 namespace narwhal {
@@ -50,7 +51,9 @@ class DivergenceError : public Error {
 
 class NewtonSolver {
  public:
-  NewtonSolver(Grid& g, FlowField& f, const FlowParams& fp, NewtonSettings s);
+  // `comm`: the ranks g's blocks are distributed over. Every iteration is collective over it
+  // (the residual norms, the SER CFL and the checks are sums and extrema over all blocks).
+  NewtonSolver(Grid& g, FlowField& f, const FlowParams& fp, NewtonSettings s, const Communicator& comm);
 
   // One Newton iteration: BCs, residual, Jacobians, SGS, update. Returns the
   // norms of the residual evaluated at the start of the iteration. The CFL
@@ -116,17 +119,17 @@ class NewtonSolver {
   int cfl_cuts() const { return cfl_cuts_; }
 
   // Checks every residual and state entry; throws DivergenceError naming the
-  // first non-finite one.
+  // first non-finite one, on every rank (collective over comm_).
   void check_finite() const;
 
   // "block 'b' cell (i, j, k), equation u: |R|/V = ..." for the largest residual of
-  // `equation` (-1: of any). Collective over the world communicator.
+  // `equation` (-1: of any). Collective over comm_.
   std::string describe_largest_residual(int equation = -1) const;
 
  private:
   void assemble_block(int ib, Real cfl);
   void sweep_block(int ib, bool forward);
-  IterationNorms norms() const;
+  IterationNorms norms() const;  // collective over comm_
   State linear_residual(int ib, const Index3& c) const;
   std::string describe_largest_linear_residual_collective() const;
 
@@ -141,6 +144,7 @@ class NewtonSolver {
   FlowField& f_;
   FlowParams fp_;
   NewtonSettings s_;
+  Communicator comm_;
   Real ref_norm_ = -1.0;
   Real last_cfl_ = -1.0;  // < 0: none yet
   bool recovering_ = false;  // the CFL was cut and has not yet regrown to SER's value

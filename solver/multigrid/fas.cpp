@@ -33,7 +33,7 @@ void fill_correction_ghosts(Grid& g, std::vector<GhostArray<State>>& dq) {
 }  // namespace
 
 Multigrid::Multigrid(Grid& fine, FlowField& field, const FlowParams& fp, const NewtonSettings& ns,
-                     MultigridSettings ms)
+                     MultigridSettings ms, const Communicator& comm)
     : ms_(ms) {
   if (ms.levels < 1) fail("multigrid: the number of levels must be >= 1");
   if (ms.gamma < 1 || ms.gamma > 2) fail("multigrid: gamma must be 1 (V-cycle) or 2 (W-cycle)");
@@ -57,7 +57,7 @@ Multigrid::Multigrid(Grid& fine, FlowField& field, const FlowParams& fp, const N
     levels_.push_back(std::move(l));
   }
   for (auto& l : levels_) {
-    l.solver = std::make_unique<NewtonSolver>(*l.grid, *l.field, l.fp, ns);
+    l.solver = std::make_unique<NewtonSolver>(*l.grid, *l.field, l.fp, ns, comm);
     l.forcing.resize(l.grid->blocks.size());
     l.q0.resize(l.grid->blocks.size());
     l.correction.resize(l.grid->blocks.size());

@@ -33,8 +33,10 @@ struct MultigridSettings {
 
 class Multigrid {
  public:
-  // `fine` and `field` are the finest level (owned by the caller).
-  Multigrid(Grid& fine, FlowField& field, const FlowParams& fp, const NewtonSettings& ns, MultigridSettings ms);
+  // `fine` and `field` are the finest level (owned by the caller); `comm`: the ranks its
+  // blocks are distributed over, every level's solver collective over it.
+  Multigrid(Grid& fine, FlowField& field, const FlowParams& fp, const NewtonSettings& ns, MultigridSettings ms,
+            const Communicator& comm);
 
   // One cycle; returns the norms of the finest-level residual at its start. The CFL
   // follows switched evolution relaxation on the finest level, or is given (dual time).

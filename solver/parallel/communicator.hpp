@@ -11,6 +11,11 @@
 //   }
 // Reductions are deterministic for a given rank count (MPI_Allreduce's order is fixed
 // per communicator size in OpenMPI's default algorithms; vectors reduce element-wise).
+//
+// Only the top of a run (main, the run's driver) asks for world(). Everything below
+// that communicates takes the communicator as an argument or holds the one it was
+// built with, and its comment says "collective over comm": every rank must call it,
+// so a call inside a branch that only some ranks take would hang.
 #include <cstddef>
 #include <string>
 #include <vector>

@@ -19,9 +19,8 @@ void distribute(Grid& g, int ranks, int rank) {
   g.rank = rank;
 }
 
-void gather_to_root(const Grid& g, FlowField& f) {
+void gather_to_root(const Communicator& comm, const Grid& g, FlowField& f) {
   if (g.owner.empty()) return;
-  const Communicator comm = Communicator::world();
   const bool turb = !f.turb.empty();
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib) {
     const int from = g.owner[ib];

@@ -11,6 +11,7 @@
 // restarts on M. One writer is enough at this scale (a restart of 10 M cells is
 // 0.4 GB); parallel HDF5 would be the next step for the cluster sizes of the roadmap.
 #include "mesh/block.hpp"
+#include "parallel/communicator.hpp"
 #include "physics/flow.hpp"
 
 namespace narwhal {
@@ -21,7 +22,7 @@ void distribute(Grid& g, int ranks, int rank);
 
 // Cells (Q, nu, turbulence variables: those the field has) of every block onto the
 // root; the other ranks' fields are unchanged. Collective.
-void gather_to_root(const Grid& g, FlowField& f);
+void gather_to_root(const Communicator& comm, const Grid& g, FlowField& f);
 
 // Interior cells between the balanced layout `pieces` and the case's layout `whole`
 // (blocks matched by Block::parent and its offset, or by name). `to_whole` true:

@@ -5,11 +5,11 @@
 
 namespace narwhal {
 
-std::vector<Real> sum_in_block_order(const Grid& g, std::vector<Real> partials, int width) {
+std::vector<Real> sum_in_block_order(const Communicator& comm, const Grid& g, std::vector<Real> partials, int width) {
   const std::size_t w = static_cast<std::size_t>(width);
   if (partials.size() != g.blocks.size() * w)
     fail("sum_in_block_order: {} partials for {} blocks of width {}", partials.size(), g.blocks.size(), width);
-  if (!g.owner.empty()) Communicator::world().sum(partials);
+  if (!g.owner.empty()) comm.sum(partials);
   std::vector<Real> total(w, 0.0);
   for (std::size_t ib = 0; ib < g.blocks.size(); ++ib)
     for (std::size_t m = 0; m < w; ++m) total[m] += partials[ib * w + m];

@@ -14,8 +14,9 @@
 namespace narwhal {
 
 // `partials` holds `width` values per block (block-major; zeros for blocks not owned).
-// Returns the `width` totals.
-std::vector<Real> sum_in_block_order(const Grid& g, std::vector<Real> partials, int width);
+// Returns the `width` totals. Collective over `comm` when the grid's blocks are
+// distributed (g.owner set): every rank must call it.
+std::vector<Real> sum_in_block_order(const Communicator& comm, const Grid& g, std::vector<Real> partials, int width);
 
 // Collective over `comm`: the description held by the lowest rank whose `local_largest`
 // is the largest of all ranks' (where the worst cell is, whichever rank owns it).

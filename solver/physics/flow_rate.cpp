@@ -7,8 +7,8 @@
 
 namespace narwhal {
 
-FlowRateControl::FlowRateControl(const Grid& g, const Vec3& initial_force, Real target)
-    : G_(std::make_shared<Real>(initial_force.norm())), target_(target) {
+FlowRateControl::FlowRateControl(const Communicator& comm, const Grid& g, const Vec3& initial_force, Real target)
+    : comm_(comm), G_(std::make_shared<Real>(initial_force.norm())), target_(target) {
   if (!(initial_force.norm() > 0.0)) fail("a target bulk velocity needs flow.body_force for its direction");
   e_ = initial_force.normalized();
   for (const Block& b : g.blocks) for_each_cell(b, [&](int i, int j, int k) { volume_ += b.vol(i, j, k); });
@@ -25,7 +25,7 @@ Real FlowRateControl::bulk_velocity(const Grid& g, const FlowField& f) const {
     const Block& b = g.blocks[ib];
     for_each_cell(b, [&](int i, int j, int k) { flux[ib] += b.vol(i, j, k) * e_.dot(f.Q[ib](i, j, k).tail<3>()); });
   }
-  return sum_in_block_order(g, std::move(flux), 1)[0] / volume_;
+  return sum_in_block_order(comm_, g, std::move(flux), 1)[0] / volume_;
 }
 
 void FlowRateControl::update(const Grid& g, const FlowField& f,
@@ -34,7 +34,7 @@ void FlowRateControl::update(const Grid& g, const FlowField& f,
   // -p n = -cp/2 n (n into the fluid).
   // (A_ref = 2 makes the coefficients the forces themselves.)
   Real Fw = 0.0;
-  for (const auto& [name, c] : integrate_forces(g, walls, 2.0, 1.0, Vec3::Zero())) Fw += e_.dot(c.force);
+  for (const auto& [name, c] : integrate_forces(comm_, g, walls, 2.0, 1.0, Vec3::Zero())) Fw += e_.dot(c.force);
   const Real ub = bulk_velocity(g, f);
   if (!(ub > 0.0)) return;  // the flow runs backwards or is not finite: keep the force
   const Real balance = Fw / volume_ * (target_ / ub) * (target_ / ub);

@@ -27,7 +27,8 @@ namespace narwhal {
 
 class FlowRateControl {
  public:
-  FlowRateControl(const Grid& g, const Vec3& initial_force, Real target_bulk_velocity);
+  // bulk_velocity and update are collective over `comm` (the ranks the grid is distributed over).
+  FlowRateControl(const Communicator& comm, const Grid& g, const Vec3& initial_force, Real target_bulk_velocity);
 
   // The momentum source of the residual; every copy (one per multigrid level) reads
   // the current force.
@@ -40,6 +41,7 @@ class FlowRateControl {
   void set_magnitude(Real G) { *G_ = G; }  // from a restart
 
  private:
+  Communicator comm_;
   Vec3 e_;
   std::shared_ptr<Real> G_;
   Real target_, volume_ = 0.0;

@@ -70,7 +70,7 @@ ForceCoefficients integrate_forces(std::span<const WallFace> faces, Real area_re
   return c;
 }
 
-std::map<std::string, ForceCoefficients> integrate_forces(const Grid& g,
+std::map<std::string, ForceCoefficients> integrate_forces(const Communicator& comm, const Grid& g,
                                                           const std::map<std::string, std::vector<WallFace>>& faces,
                                                           Real area_ref, Real length_ref, const Vec3& centre) {
   // Per (group, block) partial forces, added in block order on every rank: the same
@@ -105,7 +105,7 @@ std::map<std::string, ForceCoefficients> integrate_forces(const Grid& g,
     ++gi;
   }
   // Totals per group: sum_in_block_order over blocks of width groups*6.
-  const std::vector<Real> total = sum_in_block_order(g, std::move(partial), static_cast<int>(groups * width));
+  const std::vector<Real> total = sum_in_block_order(comm, g, std::move(partial), static_cast<int>(groups * width));
   std::map<std::string, ForceCoefficients> out;
   gi = 0;
   for (const auto& [name, list] : faces) {

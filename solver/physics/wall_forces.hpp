@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mesh/block.hpp"
+#include "parallel/communicator.hpp"
 #include "physics/flow.hpp"
 
 namespace narwhal {
@@ -39,7 +40,8 @@ ForceCoefficients integrate_forces(std::span<const WallFace> faces, Real area_re
 
 // Every group's coefficients over all ranks (faces of the owned blocks, from
 // wall_faces), summed block by block in block order: the same on any rank count.
-std::map<std::string, ForceCoefficients> integrate_forces(const Grid& g,
+// Collective over `comm`.
+std::map<std::string, ForceCoefficients> integrate_forces(const Communicator& comm, const Grid& g,
                                                           const std::map<std::string, std::vector<WallFace>>& faces,
                                                           Real area_ref, Real length_ref, const Vec3& moment_centre);
 

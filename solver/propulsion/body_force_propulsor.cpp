@@ -65,7 +65,7 @@ Real BodyForcePropulsor::thrust_slope() const {
   return std::pow(D, 4) * (2.0 * n * loads_.kt - dkt * loads_.advance_speed / D);
 }
 
-void BodyForcePropulsor::measure_inflow(const Grid& g, const std::vector<GhostArray<State>>& Q) {
+void BodyForcePropulsor::measure_inflow(const Communicator& comm, const Grid& g, const std::vector<GhostArray<State>>& Q) {
   if (!spec_.inflow_distance) return;
   const Vec3 centre = centre_ + *spec_.inflow_distance * axis_;
   std::vector<Real> partials(2 * g.blocks.size(), 0.0);  // per block: sum V u_a, sum V
@@ -82,7 +82,7 @@ void BodyForcePropulsor::measure_inflow(const Grid& g, const std::vector<GhostAr
       partials[2 * ib + 1] += V;
     });
   }
-  const std::vector<Real> total = sum_in_block_order(g, std::move(partials), 2);
+  const std::vector<Real> total = sum_in_block_order(comm, g, std::move(partials), 2);
   if (!(total[1] > 0.0))
     fail("propulsor '{}': no cell of the grid lies in its inflow annulus {} ahead of the disk", spec_.name,
          *spec_.inflow_distance);
@@ -140,7 +140,7 @@ std::optional<BodyForcePropulsor::CellShare> BodyForcePropulsor::share(const Blo
   return s;
 }
 
-void BodyForcePropulsor::normalise(const Grid& g) {
+void BodyForcePropulsor::normalise(const Communicator& comm, const Grid& g) {
   // Per block: the disk's volume, sum V axial and sum V ((x_c - x_p) x tangential).w_p.
   constexpr int kWidth = 3;
   std::vector<Real> partials(kWidth * g.blocks.size(), 0.0);
@@ -161,7 +161,7 @@ void BodyForcePropulsor::normalise(const Grid& g) {
       kept.cells.push_back({{i, j, k}, s->axial, turn_.transpose() * s->tangential});
     });
   }
-  const std::vector<Real> total = sum_in_block_order(g, std::move(partials), kWidth);
+  const std::vector<Real> total = sum_in_block_order(comm, g, std::move(partials), kWidth);
   if (!(total[1] > 0.0) || !(total[2] > 0.0))
     fail("propulsor '{}': no cell of the grid lies inside its disk (centre [{}, {}, {}], radii {} to {}, thickness {})",
          spec_.name, centre_[0], centre_[1], centre_[2], spec_.disk.hub_radius, spec_.disk.tip_radius,

@@ -8,7 +8,7 @@
 // Usage:
 //   auto prop = std::make_shared<BodyForcePropulsor>(spec, curve);
 //   prop->set_surge_speed(1.0);   // the operating point: J, K_T, K_Q, T, Q
-//   prop->normalise(grid);        // collective: the disk's cells on every rank
+//   prop->normalise(comm, grid);  // collective over comm: the disk's cells on every rank
 //   fp.sources.push_back(prop);
 #include <memory>
 #include <optional>
@@ -19,6 +19,7 @@
 #include "core/types.hpp"
 #include "fields/ghost_array.hpp"
 #include "motion/grid_motion.hpp"
+#include "parallel/communicator.hpp"
 #include "physics/volume_source.hpp"
 #include "propulsion/hough_ordway.hpp"
 #include "propulsion/open_water.hpp"
@@ -70,9 +71,9 @@ class BodyForcePropulsor final : public VolumeSource {
   // Once the inflow has been measured (option b) V_A stays the measured one.
   void set_surge_speed(Real surge_speed);
   // With an inflow_distance: V_A measured in the flow f on g (§9.1 option b; lagged: the
-  // loads of the next residuals follow it). Collective over the ranks sharing g. Without
+  // loads of the next residuals follow it). Collective over comm, the ranks sharing g. Without
   // one it does nothing.
-  void measure_inflow(const Grid& g, const std::vector<GhostArray<State>>& Q);
+  void measure_inflow(const Communicator& comm, const Grid& g, const std::vector<GhostArray<State>>& Q);
   const PropulsorLoads& loads() const { return loads_; }
   // A new rotation rate (an rpm controller's): the loads at the present advance speed.
   void set_rps(Real rps);
@@ -84,14 +85,14 @@ class BodyForcePropulsor final : public VolumeSource {
 
   // The discrete renormalisation (§9.4): the constants that make the disk's cells of g
   // carry T and Q exactly (sum_c V_c f_a,c = T, sum_c V_c ((x_c - x_p) x f_c).w_p = Q).
-  // Collective over the ranks that share g (a sum in block order: the same on any rank
+  // Collective over comm, the ranks that share g (a sum in block order: the same on any rank
   // count); the operating point rescales them without a new call. It also keeps the
   // disk's cells of g's owned blocks and their shares, so that a residual visits only
   // those: g must outlive the source's use on its blocks (the run's grid does). Other
   // blocks (multigrid's coarse levels) are searched cell by cell with the fine level's
   // constants: a source that does not depend on the state cancels from FAS's coarse
   // equations, whatever they evaluate.
-  void normalise(const Grid& g);
+  void normalise(const Communicator& comm, const Grid& g);
   // The disk's volume on g's cells as normalise found it (the cut cells' shares counted).
   Real disk_volume() const { return disk_volume_; }
 

@@ -251,7 +251,7 @@ TurbulenceNorms TransportModel::assemble(const Grid& g, const FlowField& f, cons
     assemble_sources(b, static_cast<int>(ib), f, fp, cfl_t, &partial[3 * ib]);
     partial[3 * ib + 2] = static_cast<Real>(b.cells());
   }
-  const std::vector<Real> total = sum_in_block_order(g, std::move(partial), 3);
+  const std::vector<Real> total = sum_in_block_order(comm_, g, std::move(partial), 3);
   TurbulenceNorms norms;
   for (int m = 0; m < num_variables(); ++m) norms.l2[m] = std::sqrt(total[static_cast<std::size_t>(m)] / total[2]);
   return norms;

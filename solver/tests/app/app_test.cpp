@@ -583,7 +583,7 @@ TEST(Robustness, NonFiniteStateIsReportedWithBlockCellAndEquation) {
   FlowField f;
   f.allocate(g, fp, c.initial);
   f.Q[0](5, 3, 0)[2] = std::nan("");
-  NewtonSolver s(g, f, fp, c.solver.newton);
+  NewtonSolver s(g, f, fp, c.solver.newton, Communicator::world());
   std::string e;
   try {
     s.evaluate_residual();

@@ -20,7 +20,7 @@ TEST(LinearResidual, FallsToRoundOffAsTheSweepsConverge) {
   f.allocate(g, fp, c.initial);
   NewtonSettings ns = c.solver.newton;
   ns.sgs_iterations = 1;
-  NewtonSolver s(g, f, fp, ns);
+  NewtonSolver s(g, f, fp, ns, Communicator::world());
   for (int it = 0; it < 3; ++it) s.iterate();  // away from the uniform start
   const IterationNorms n = s.evaluate_residual();
   s.relax_and_update(n, 50.0);  // one sweep pair; R and the matrices stay those of this state

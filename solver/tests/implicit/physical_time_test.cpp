@@ -81,10 +81,10 @@ void march(Grid& g, FlowField& f, const FlowParams& fp, TimeConfig::Scheme schem
   if (multigrid_levels > 1) {
     MultigridSettings ms;
     ms.levels = multigrid_levels;
-    mg = std::make_unique<Multigrid>(g, f, fp, ns, ms);
+    mg = std::make_unique<Multigrid>(g, f, fp, ns, ms, Communicator::world());
     mg->use_physical_time(&time.term());
   } else {
-    single = std::make_unique<NewtonSolver>(g, f, fp, ns);
+    single = std::make_unique<NewtonSolver>(g, f, fp, ns, Communicator::world());
     single->set_physical_time(&time.term());
   }
   const Real inf = std::numeric_limits<Real>::infinity();

@@ -222,12 +222,12 @@ void expect_free_stream_preserved(int multigrid_levels, bool deforming = false) 
   if (multigrid_levels > 1) {
     MultigridSettings ms;
     ms.levels = multigrid_levels;
-    mg = std::make_unique<Multigrid>(g, f, fp, ns, ms);
+    mg = std::make_unique<Multigrid>(g, f, fp, ns, ms, Communicator::world());
     ASSERT_EQ(mg->levels(), multigrid_levels);
     mg->use_physical_time(&time.term());
     for (int l = 0; l < mg->levels(); ++l) moving.push_back(std::make_unique<MovingGrid>(mg->grid(l), Vec3(0.5, 0.5, 0.5)));
   } else {
-    single = std::make_unique<NewtonSolver>(g, f, fp, ns);
+    single = std::make_unique<NewtonSolver>(g, f, fp, ns, Communicator::world());
     single->set_physical_time(&time.term());
     moving.push_back(std::make_unique<MovingGrid>(g, Vec3(0.5, 0.5, 0.5)));
   }

@@ -75,7 +75,7 @@ std::vector<State> solve(TimeConfig::Scheme scheme, int steps) {
   DualTime time(g, test::time_config(scheme, dt, steps));
   NewtonSettings ns;
   ns.sgs_iterations = 10;
-  NewtonSolver solver(g, f, fp, ns);
+  NewtonSolver solver(g, f, fp, ns, Communicator::world());
   solver.set_physical_time(&time.term());
   MovingGrid moving(g, Vec3(0.5, 0.5, 0.5));
   const Real inf = std::numeric_limits<Real>::infinity();

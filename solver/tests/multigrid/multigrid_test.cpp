@@ -83,7 +83,7 @@ TEST(Multigrid, LevelsStopWhereABlockWouldKeepTooFewCells) {
     MultigridSettings ms;
     ms.levels = 4;
     ms.min_cells = min_cells;
-    Multigrid mg(grid, f, fp, cc.solver.newton, ms);
+    Multigrid mg(grid, f, fp, cc.solver.newton, ms, Communicator::world());
     EXPECT_EQ(mg.levels(), min_cells == 1 ? 4 : 2);
     if (min_cells == 4) {
       EXPECT_NE(mg.level_note().find("fewer than 4"), std::string::npos) << mg.level_note();
@@ -98,7 +98,7 @@ TEST(Multigrid, MultiblockMultigridConvergesToTheSingleGridAnswer) {
   const FlowParams fp = flow_params(c);
   FlowField f1;
   f1.allocate(g1, fp, c.initial);
-  NewtonSolver single(g1, f1, fp, c.solver.newton);
+  NewtonSolver single(g1, f1, fp, c.solver.newton, Communicator::world());
   ASSERT_LT(test::converge(single, 1e-12, 3000), 1e-12);
 
   c.grid.split = {2, 2, 1};
@@ -109,7 +109,7 @@ TEST(Multigrid, MultiblockMultigridConvergesToTheSingleGridAnswer) {
   MultigridSettings ms;
   ms.levels = 3;
   ms.gamma = 1;
-  Multigrid mg(g4, f4, fp, c.solver.newton, ms);
+  Multigrid mg(g4, f4, fp, c.solver.newton, ms, Communicator::world());
   EXPECT_EQ(mg.levels(), 3);
   Real first = -1.0, last = 1.0;
   int cycles = 0;

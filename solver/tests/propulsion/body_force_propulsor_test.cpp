@@ -198,7 +198,7 @@ TEST(BodyForcePropulsor, FluidTakesThrustAndTorqueExactly) {
   const Grid g = disk_box(8, 36);
   BodyForcePropulsor p(disk_spec(), dtmb4119());
   p.set_surge_speed(1.0);
-  p.normalise(g);
+  p.normalise(Communicator::world(), g);
   const auto [force, torque] = fluid_loads(g, p);
   const Real T = p.loads().thrust, Q = p.loads().torque;
   // The fluid is pushed along -e_a = +x with the thrust, and swirled with the blades.
@@ -221,7 +221,7 @@ TEST(BodyForcePropulsor, CarriedWithARigidlyMovedGridItsCellsKeepTheirShares) {
   Grid g = disk_box(8, 24);
   BodyForcePropulsor carried(disk_spec(), dtmb4119());
   carried.set_surge_speed(1.0);
-  carried.normalise(g);
+  carried.normalise(Communicator::world(), g);
   RigidPose pose;
   pose.rotation = (Eigen::AngleAxis<Real>(0.4, Vec3(0.3, -0.5, 0.8).normalized())).toRotationMatrix();
   pose.displacement = Vec3(0.7, -0.2, 0.35);
@@ -236,7 +236,7 @@ TEST(BodyForcePropulsor, CarriedWithARigidlyMovedGridItsCellsKeepTheirShares) {
   moved.axis = carried.axis();
   BodyForcePropulsor found(moved, dtmb4119());
   found.set_surge_speed(1.0);
-  found.normalise(g);
+  found.normalise(Communicator::world(), g);
   const std::vector<Vec3> a = cell_forces(g, carried), b = cell_forces(g, found);
   ASSERT_EQ(a.size(), b.size());
   Real largest = 0.0, difference = 0.0;
@@ -257,7 +257,7 @@ TEST(BodyForcePropulsor, BlocksItWasNotNormalisedOnAreSearchedCellByCell) {
   const Grid g = disk_box(8, 24);
   BodyForcePropulsor p(disk_spec(), dtmb4119());
   p.set_surge_speed(1.0);
-  p.normalise(g);
+  p.normalise(Communicator::world(), g);
   const Grid copy = g;
   EXPECT_EQ(cell_forces(g, p), cell_forces(copy, p));
 }
@@ -268,7 +268,7 @@ TEST(BodyForcePropulsor, CentredOnASymmetricGridTheSwirlHasNoSideForce) {
   s.centre = Vec3::Zero();
   BodyForcePropulsor p(s, dtmb4119());
   p.set_surge_speed(1.0);
-  p.normalise(g);
+  p.normalise(Communicator::world(), g);
   const auto [force, torque] = fluid_loads(g, p);
   EXPECT_LT(std::abs(force[1]) + std::abs(force[2]), 1e-12 * p.loads().thrust);
   EXPECT_NEAR(torque / p.loads().torque, 1.0, 1e-10);
@@ -280,7 +280,7 @@ TEST(BodyForcePropulsor, WithoutSwirlTheFluidTakesThrustAlone) {
   s.swirl = false;
   BodyForcePropulsor p(s, dtmb4119());
   p.set_surge_speed(1.0);
-  p.normalise(g);
+  p.normalise(Communicator::world(), g);
   const auto [force, torque] = fluid_loads(g, p);
   EXPECT_NEAR(force[0] / p.loads().thrust, 1.0, 1e-10);
   EXPECT_EQ(torque, 0.0);
@@ -294,7 +294,7 @@ TEST(BodyForcePropulsor, AdvanceSpeedMeasuredAheadOfTheDisk) {
   s.inflow_distance = 0.2;  // the annulus at x = -0.1, inside the box
   BodyForcePropulsor p(s, dtmb4119());
   p.set_surge_speed(1.0);
-  p.normalise(g);
+  p.normalise(Communicator::world(), g);
   EXPECT_DOUBLE_EQ(p.loads().advance_speed, 0.9);  // option a's until measured
   // The water along +x at 0.8 plus a part odd across the axis: its mean over the
   // (symmetric) annulus is 0.8.
@@ -303,7 +303,7 @@ TEST(BodyForcePropulsor, AdvanceSpeedMeasuredAheadOfTheDisk) {
     Q.emplace_back(b.ni, b.nj, b.nk, 2, State::Zero());
     for_each_cell(b, [&](int i, int j, int k) { Q.back()(i, j, k) << 0.0, 0.8 + 0.3 * b.xc(i, j, k)[1], 0.1, 0.0; });
   }
-  p.measure_inflow(g, Q);
+  p.measure_inflow(Communicator::world(), g, Q);
   EXPECT_NEAR(p.loads().advance_speed, 0.8, 1e-12);
   EXPECT_NEAR(p.loads().wake_fraction, 0.2, 1e-12);
   EXPECT_NEAR(p.loads().advance_ratio, 0.8 / (1.5 * 2.0), 1e-12);
@@ -321,7 +321,7 @@ TEST(BodyForcePropulsor, LeftHandedBladesSwirlTheOtherWay) {
   BodyForcePropulsor left(s, dtmb4119());
   for (auto* p : {&right, &left}) {
     p->set_surge_speed(1.0);
-    p->normalise(g);
+    p->normalise(Communicator::world(), g);
   }
   // About +x (the fluid's way): right-handed about e_a = -x turns the fluid negatively.
   auto swirl_about_x = [&](const BodyForcePropulsor& p) {
@@ -347,7 +347,7 @@ TEST(BodyForcePropulsor, CutCellsShareTheDisksVolume) {
   // (measured 7.7e-3, 8.3e-5, 1.1e-3, 2.1e-4 at 6, 12, 24, 48 cells across).
   for (const auto& [n, bound] : std::vector<std::pair<int, Real>>{{6, 2e-2}, {24, 3e-3}, {48, 1e-3}}) {
     BodyForcePropulsor p(disk_spec(), dtmb4119());
-    p.normalise(disk_box(6, n));
+    p.normalise(Communicator::world(), disk_box(6, n));
     EXPECT_LT(std::abs(p.disk_volume() - exact) / exact, bound) << n << " cells across";
   }
 }
@@ -356,7 +356,7 @@ TEST(BodyForcePropulsor, VehicleTakesThrustAndTheTorquesReaction) {
   const Grid g = disk_box(6, 16);
   BodyForcePropulsor p(disk_spec(), dtmb4119());
   p.set_surge_speed(1.0);
-  p.normalise(g);
+  p.normalise(Communicator::world(), g);
   const Vec3 origin(2.0, 0.0, 0.1);
   const Vec3 F = p.vehicle_force(), M = p.vehicle_moment(origin);
   EXPECT_TRUE(F.isApprox(Vec3(-p.loads().thrust, 0.0, 0.0)));
@@ -368,7 +368,7 @@ TEST(BodyForcePropulsor, RefusesADiskOutsideTheGridAndBadGeometry) {
   PropulsorSpec s = disk_spec();
   s.centre = Vec3(10.0, 0.0, 0.0);
   BodyForcePropulsor p(s, dtmb4119());
-  EXPECT_THROW(p.normalise(disk_box(4, 8)), Error);
+  EXPECT_THROW(p.normalise(Communicator::world(), disk_box(4, 8)), Error);
   s = disk_spec();
   s.disk.hub_radius = 1.5;
   EXPECT_THROW(BodyForcePropulsor(s, dtmb4119()), Error);

@@ -44,7 +44,7 @@ ChannelRun run_channel(int ny, Real stretch_dy, Real top_speed, Real G, Real Re,
   if (G != 0.0) r.fp.sources = {position_source("body force", [G](const Vec3&) { return Vec3(G, 0.0, 0.0); })};
   std::unique_ptr<FlowRateControl> control;
   if (target_ub > 0.0) {
-    control = std::make_unique<FlowRateControl>(r.g, Vec3(G, 0.0, 0.0), target_ub);
+    control = std::make_unique<FlowRateControl>(Communicator::world(), r.g, Vec3(G, 0.0, 0.0), target_ub);
     r.fp.sources = {position_source("flow-rate control", control->source())};
   }
   State init;
@@ -53,7 +53,7 @@ ChannelRun run_channel(int ny, Real stretch_dy, Real top_speed, Real G, Real Re,
   NewtonSettings s;
   s.cfl_start = 1e6;
   s.sgs_iterations = 20;
-  NewtonSolver solver(r.g, r.f, r.fp, s);
+  NewtonSolver solver(r.g, r.f, r.fp, s, Communicator::world());
   Real first = -1.0, last = 0.0;
   std::map<std::string, std::vector<WallFace>> faces;
   for (int it = 0; it < 500; ++it) {
@@ -116,7 +116,7 @@ TEST(FlowRateControl, FindsTheForceOfTheFixedForceRunWithItsBulkVelocity) {
   // wrong first estimate (G = 0.3) must converge to the same discrete solution, G = 0.8.
   const Real Re = 10.0;
   auto fixed = run_channel(16, 0.0, 0.0, 0.8, Re);
-  const FlowRateControl probe(fixed.g, Vec3(1.0, 0.0, 0.0), 1.0);
+  const FlowRateControl probe(Communicator::world(), fixed.g, Vec3(1.0, 0.0, 0.0), 1.0);
   const Real ub = probe.bulk_velocity(fixed.g, fixed.f);
   EXPECT_NEAR(ub / (Re * 0.8 / 12.0), 1.0, 1e-2);  // plane Poiseuille U_b = Re G / 12, to O(h^2)
   Real G = 0.0;

@@ -20,7 +20,7 @@ State mms_error(int n) {
   const FlowParams fp = flow_params(c);
   FlowField f;
   f.allocate(g, fp, c.initial);
-  NewtonSolver s(g, f, fp, c.solver.newton);
+  NewtonSolver s(g, f, fp, c.solver.newton, Communicator::world());
   const Real drop = test::converge(s, 1e-11, 2000);
   EXPECT_LT(drop, 1e-11) << "grid " << n;
   State e2 = State::Zero();

@@ -21,7 +21,7 @@ Converged solve(CaseConfig c) {
   r.g = build_grid(c);
   const FlowParams fp = flow_params(c);
   r.f.allocate(r.g, fp, c.initial);
-  NewtonSolver s(r.g, r.f, fp, c.solver.newton);
+  NewtonSolver s(r.g, r.f, fp, c.solver.newton, Communicator::world());
   EXPECT_LT(test::converge(s, 1e-13, 3000), 1e-13);
   return r;
 }
