@@ -228,8 +228,8 @@ BENCHMARK(BM_TurbulenceUpdatePerCell)->Arg(0)->Arg(1)->Unit(benchmark::kMillisec
 
 // One SST update with line relaxation (assembly, 8 sweep pairs, update) on the quick
 // appended SUBOFF member (AFF-8, scale 0.25 of appended.toml, 154 k cells): a 3-D grid whose
-// blocks relax along each of the three index directions, the j-lines among them striding
-// through memory (implicit/line_solver.hpp). Started from five cycles of the case.
+// blocks relax along each of the three index directions (turbulence/DESIGN.md, "Lines in
+// memory order"). Started from five cycles of the case.
 void BM_TurbulenceUpdateAppendedPerCell(benchmark::State& st) {
   TurbulentCase p("suboff_appended/appended.toml", {"grid.scale=0.25"});
   for (int i = 0; i < 5; ++i) p.cycle();

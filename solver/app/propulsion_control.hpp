@@ -32,7 +32,8 @@ class PropulsionControl {
   std::shared_ptr<VolumeSource> source() const { return propulsor_; }
   const BodyForcePropulsor& propulsor() const { return *propulsor_; }
 
-  // After cycle `cycle`: the advance speed from the flow (collective), then the controller's step on the resistance of the wall forces (coefficients on
+  // After cycle `cycle`: the advance speed from the flow (collective), then the
+  // controller's step on the resistance of the wall forces (coefficients on
   // output.reference_area, as measure_forces leaves them on every rank).
   void after_cycle(int cycle, const Grid& g, const FlowField& f,
                    const std::map<std::string, ForceCoefficients>& forces);

@@ -21,7 +21,7 @@ namespace narwhal {
 void distribute(Grid& g, int ranks, int rank);
 
 // Cells (Q, nu, turbulence variables: those the field has) of every block onto the
-// root; the other ranks' fields are unchanged. Collective.
+// root; the other ranks' fields are unchanged. Collective over comm.
 void gather_to_root(const Communicator& comm, const Grid& g, FlowField& f);
 
 // Interior cells between the balanced layout `pieces` and the case's layout `whole`
