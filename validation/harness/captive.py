@@ -164,7 +164,7 @@ def continuation_summary(ctx):
                 t, names, values = _force_history(ctx, later)
                 average = period_average(t, values, sweep.unsteady.discard)
                 points.append({"point": rid, "run": later, "periods": average.periods, "start": average.start,
-                               "end": average.end, "force_span": point_force_span(ctx, sweep, rid),
+                               "end": average.end, "force_span": _mean_force_span(names, average),
                                "history": {"column": names[average.reference], "t": t.tolist(),
                                            "y": values[:, average.reference].tolist()}})
             except HarnessError as e:
@@ -214,7 +214,11 @@ def point_force_span(ctx, sweep, run_id):
     if later is None:
         from .extract import run_json  # here, not at the top: extract imports this module to register it
         return run_json(ctx, {"field": "force_span"}, run_id)
-    names, average = time_average(ctx, sweep, later)
+    return _mean_force_span(*time_average(ctx, sweep, later))
+
+
+def _mean_force_span(names, average):
+    """A continuation's force span from its PeriodAverage (point_force_span)."""
     forces = [i for i, n in enumerate(names) if n.rsplit("_", 1)[-1] in ("cfx", "cfy", "cfz")]
     groups = {names[i].rsplit("_", 1)[0] for i in forces}
     largest = max(math.sqrt(sum(average.means[names.index(f"{g}_{c}")] ** 2 for c in ("cfx", "cfy", "cfz")))

@@ -319,9 +319,11 @@ class UnsteadyPoints(unittest.TestCase):
 
     def test_the_report_states_the_rule_and_the_points_continued(self):
         from harness import report
-        from harness.captive import continuation_summary
-        summary = continuation_summary(self.context(drift=0.0))
+        from harness.captive import continuation_summary, point_force_span
+        still = self.context(drift=0.0)
+        summary = continuation_summary(still)
         self.assertEqual([p["point"] for p in summary[0]["points"]], ["drift_m8", "drift_8"])
+        self.assertEqual(summary[0]["points"][1]["force_span"], point_force_span(still, still.rung.sweeps[0], "drift_8"))
         self.assertGreaterEqual(summary[0]["points"][0]["periods"], 6)
         html = report._unsteady_points_section(summary, self.dir)
         self.assertIn("time.step = 0.02", html)
